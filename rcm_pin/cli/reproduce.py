@@ -1,0 +1,25 @@
+"""``rcm-pin reproduce``: regenerate every paper's results into a report."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from rcm_pin.cli._common import emit
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add the ``reproduce`` subcommand."""
+    p = sub.add_parser("reproduce", help="regenerate every paper result into report.md")
+    p.add_argument("--out", type=Path, default=Path("report"), help="output directory")
+    p.add_argument("--only", action="append", help="run only sections matching this word")
+    p.add_argument("--json", action="store_true")
+    p.set_defaults(func=cmd_reproduce)
+
+
+def cmd_reproduce(args: argparse.Namespace) -> int:
+    from rcm_pin.report import write_report
+
+    path = write_report(args.out, only=args.only, quiet=args.json)
+    emit(args, {"report": str(path)}, f"report written to {path}")
+    return 0

@@ -1,0 +1,215 @@
+"""Elementary rotations, roll–pitch–yaw angles, projection onto SO(3), pose parsing.
+
+Pure numpy, vectorised over leading dimensions: an angle array of shape ``(...)`` gives
+rotation matrices of shape ``(..., 3, 3)``. No Pinocchio import (this module is part of
+the independent closed-form route that the tests compare Pinocchio against).
+
+Conventions (docs/conventions.md): right-handed frames, angles in [rad], lengths in [m].
+The papers' absolute orientation angles α, β, γ give R = Rz(γ)·Ry(β)·Rx(α).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from rcm_pin.errors import InvalidInputError, NotARotationError
+
+FloatArray = NDArray[np.float64]
+
+#: Default tolerance of :func:`project_to_rotation` on the Frobenius distance ||R − R_proj||.
+#: The papers' A_b rounded to three decimals is ~1e-4 away from SO(3) and passes.
+ROTATION_TOL = 1e-2
+#: Default tolerance on the last row [0, 0, 0, 1] of a homogeneous transform.
+LAST_ROW_TOL = 1e-9
+
+
+def as_finite(x: ArrayLike, name: str, tail: tuple[int, ...] = ()) -> FloatArray:
+    """Convert to a float64 array, checking the trailing shape and finiteness.
+
+    Args:
+        x: Input array-like.
+        name: Name used in error messages.
+        tail: Required trailing shape, e.g. ``(3, 3)``; ``()`` accepts any shape.
+
+    Returns:
+        The float64 array.
+
+    Raises:
+        InvalidInputError: Wrong trailing shape, non-numeric or NaN / infinite entries.
+    """
+    try:
+        a = np.asarray(x, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise InvalidInputError(f"{name} must be a numeric array: {exc}") from None
+    if tail and (a.ndim < len(tail) or a.shape[a.ndim - len(tail) :] != tail):
+        want = "(..., " + ", ".join(str(t) for t in tail) + ")"
+        raise InvalidInputError(f"{name} must have shape {want}, got {a.shape}")
+    if not np.isfinite(a).all():
+        raise InvalidInputError(f"{name} contains NaN or infinite entries")
+    return a
+
+
+def _elementary(angle: ArrayLike, axis: int) -> FloatArray:
+    a = np.asarray(angle, dtype=np.float64)  # [rad]
+    c, s = np.cos(a), np.sin(a)
+    out = np.zeros((*a.shape, 3, 3))
+    i, j = [(1, 2), (2, 0), (0, 1)][axis]
+    out[..., axis, axis] = 1.0
+    out[..., i, i] = c
+    out[..., j, j] = c
+    out[..., i, j] = -s
+    out[..., j, i] = s
+    return out
+
+
+def rot_x(angle: ArrayLike) -> FloatArray:
+    """Rotation about x: ``[[1, 0, 0], [0, c, −s], [0, s, c]]``.
+
+    Args:
+        angle: Angle(s) [rad], any shape ``(...)``.
+
+    Returns:
+        Rotation matrices, shape ``(..., 3, 3)``.
+    """
+    return _elementary(angle, 0)
+
+
+def rot_y(angle: ArrayLike) -> FloatArray:
+    """Rotation about y: ``[[c, 0, s], [0, 1, 0], [−s, 0, c]]``.
+
+    Args:
+        angle: Angle(s) [rad], any shape ``(...)``.
+
+    Returns:
+        Rotation matrices, shape ``(..., 3, 3)``.
+    """
+    return _elementary(angle, 1)
+
+
+def rot_z(angle: ArrayLike) -> FloatArray:
+    """Rotation about z: ``[[c, −s, 0], [s, c, 0], [0, 0, 1]]``.
+
+    Args:
+        angle: Angle(s) [rad], any shape ``(...)``.
+
+    Returns:
+        Rotation matrices, shape ``(..., 3, 3)``.
+    """
+    return _elementary(angle, 2)
+
+
+def rpy_to_matrix(alpha: ArrayLike, beta: ArrayLike, gamma: ArrayLike) -> FloatArray:
+    """The papers' absolute orientation R = Rz(γ)·Ry(β)·Rx(α).
+
+    Elements (paper 000): x1 = cos β cos γ, x2 = cos γ sin α sin β − cos α sin γ,
+    z2 = cos β sin α, z3 = cos α cos β.
+
+    Args:
+        alpha: Roll α about x [rad].
+        beta: Pitch β about y [rad].
+        gamma: Yaw γ about z [rad]; the three broadcast together.
+
+    Returns:
+        Rotation matrices, shape ``(..., 3, 3)``.
+    """
+    return rot_z(gamma) @ rot_y(beta) @ rot_x(alpha)
+
+
+def matrix_to_rpy(R: ArrayLike) -> tuple[FloatArray, FloatArray, FloatArray]:
+    """Inverse of :func:`rpy_to_matrix` with β in [−π/2, π/2].
+
+    At cos β = 0 (gimbal lock) only α ∓ γ is determined; this returns γ = 0 there.
+
+    Args:
+        R: Rotation matrices, shape ``(..., 3, 3)``.
+
+    Returns:
+        ``(alpha, beta, gamma)`` [rad], each of shape ``(...)``.
+    """
+    m = as_finite(R, "R", (3, 3))
+    cb = np.hypot(m[..., 0, 0], m[..., 1, 0])
+    beta = np.arctan2(-m[..., 2, 0], cb)  # [rad]
+    lock = cb < 1e-12
+    gamma = np.where(lock, 0.0, np.arctan2(m[..., 1, 0], m[..., 0, 0]))  # [rad]
+    # Gimbal lock: R = Ry(±π/2)·Rx(α ∓ γ); with γ = 0 read α from the second column.
+    alpha = np.where(
+        lock, np.arctan2(-m[..., 1, 2], m[..., 1, 1]), np.arctan2(m[..., 2, 1], m[..., 2, 2])
+    )  # [rad]
+    return alpha, beta, gamma
+
+
+def project_to_rotation(R: ArrayLike, tol: float = ROTATION_TOL) -> tuple[FloatArray, FloatArray]:
+    """Nearest rotation matrix (Frobenius norm) by SVD polar decomposition.
+
+    With R = U·Σ·Vᵀ the nearest rotation is U·diag(1, 1, det(U·Vᵀ))·Vᵀ (the sign fix
+    keeps det = +1 for reflections).
+
+    Args:
+        R: Matrices, shape ``(..., 3, 3)``.
+        tol: Largest accepted distance ||R − R_proj||_F (default :data:`ROTATION_TOL`
+            = 1e-2; a matrix rounded to three decimals is ~1e-3 away at most).
+
+    Returns:
+        ``(R_proj, distance)``: rotations ``(..., 3, 3)`` and distances ``(...)``.
+
+    Raises:
+        InvalidInputError: Wrong shape, NaN or infinite entries.
+        NotARotationError: Some distance exceeds ``tol``.
+    """
+    m = as_finite(R, "R", (3, 3))
+    u, _, vt = np.linalg.svd(m)
+    d = np.sign(np.linalg.det(u @ vt))
+    d[d == 0] = 1.0
+    u[..., :, 2] *= d[..., None]
+    proj = u @ vt
+    dist = np.linalg.norm((m - proj).reshape(*m.shape[:-2], 9), axis=-1)
+    worst = float(dist.max()) if dist.size else 0.0
+    if worst > tol:
+        where = "" if dist.ndim == 0 else f" at index {np.unravel_index(dist.argmax(), dist.shape)}"
+        raise NotARotationError(
+            f"matrix is not a rotation: distance to the nearest rotation {worst:.3g}{where} "
+            f"exceeds the tolerance {tol:.3g} (Frobenius norm ||R - R_proj||)"
+        )
+    return proj, dist
+
+
+def pose_from_matrix(T: ArrayLike, tol: float = LAST_ROW_TOL) -> tuple[FloatArray, FloatArray]:
+    """Split homogeneous transforms into rotation part and translation.
+
+    Args:
+        T: Transforms of shape ``(..., 4, 4)`` (last row must be [0, 0, 0, 1] within
+            ``tol``) or ``(..., 3, 4)``.
+        tol: Tolerance on the last row.
+
+    Returns:
+        ``(R, p)``: rotation parts ``(..., 3, 3)`` (not projected, see
+        :func:`project_to_rotation`) and translations ``(..., 3)`` [m].
+
+    Raises:
+        InvalidInputError: Wrong shape, NaN / infinite entries, or a bad last row.
+    """
+    a = as_finite(T, "T")
+    if a.ndim < 2 or a.shape[-1] != 4 or a.shape[-2] not in (3, 4):
+        raise InvalidInputError(f"T must have shape (..., 4, 4) or (..., 3, 4), got {a.shape}")
+    if a.shape[-2] == 4:
+        dev = np.abs(a[..., 3, :] - np.array([0.0, 0.0, 0.0, 1.0])).max(initial=0.0)
+        if dev > tol:
+            raise InvalidInputError(
+                f"last row of T must be [0, 0, 0, 1] (tolerance {tol:g}), deviation {dev:.3g}"
+            )
+    return a[..., :3, :3], a[..., :3, 3]
+
+
+__all__ = [
+    "LAST_ROW_TOL",
+    "ROTATION_TOL",
+    "as_finite",
+    "matrix_to_rpy",
+    "pose_from_matrix",
+    "project_to_rotation",
+    "rot_x",
+    "rot_y",
+    "rot_z",
+    "rpy_to_matrix",
+]

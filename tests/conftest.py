@@ -1,0 +1,32 @@
+"""Shared fixtures: loaded mechanisms (cached per session) and tolerances."""
+
+from __future__ import annotations
+
+import os
+
+import matplotlib
+import pytest
+
+matplotlib.use("Agg")
+os.environ.setdefault("MPLBACKEND", "Agg")
+
+#: Identities of exact formulas (closed form vs Pinocchio, coupling projections).
+EXACT = 1e-12
+#: Results of iterative solvers.
+SOLVER = 1e-9
+
+RCM_NAMES = ("rcm_bevel", "rcm_bevel_4dof", "rcm_belt")
+
+
+@pytest.fixture(scope="session", params=RCM_NAMES)
+def rcm_mech(request):
+    """Each shipped serial RCM mechanism with default arguments."""
+    import rcm_pin
+
+    return rcm_pin.load(request.param)
+
+
+def random_q(mech, n, rng, margin=0.0):
+    """n random configurations within the joint limits (shrunk by ``margin``)."""
+    lo, hi = mech.lower + margin, mech.upper - margin
+    return rng.uniform(lo, hi, size=(n, mech.nq))

@@ -1,0 +1,157 @@
+"""Loading, the mimic coupling, xacro arguments and the committed URDFs."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from conftest import EXACT, RCM_NAMES, random_q
+
+import rcm_pin
+from rcm_pin.errors import (
+    InvalidInputError,
+    RcmPinError,
+    UnknownFrameError,
+    UnknownMechanismError,
+    XacroArgumentError,
+)
+from rcm_pin.render import cache_key, declared_args, render_xacro
+from rcm_pin.urdf_files import check_rendered
+
+
+def test_catalogue_lists_rcm_mechanisms():
+    names = [s.name for s in rcm_pin.mechanisms()]
+    for name in RCM_NAMES:
+        assert name in names
+
+
+@pytest.mark.parametrize(("name", "nq"), [("rcm_bevel", 6), ("rcm_bevel_4dof", 4), ("rcm_belt", 6)])
+def test_load_coordinates(name, nq):
+    mech = rcm_pin.load(name)
+    assert mech.nq == nq == mech.model.nq
+    assert mech.coordinate_names == tuple(f"q{i + 1}" for i in range(nq))
+    # Tree order makes Pinocchio's q order the papers' order.
+    np.testing.assert_array_equal(mech.q_index, np.arange(nq))
+    assert mech.model_full.nq > mech.model.nq  # transmissions are extra joints
+    assert mech.frame_id("tool") == mech.tool_frame_id
+    assert mech.rcm_frame_id >= 0
+
+
+def test_coupling_reproduces_pinocchio_mimic_placements(rcm_mech):
+    """Every body placement of the mimic model equals the no-mimic model at G q + c."""
+    rng = np.random.default_rng(0)
+    data_full = rcm_mech.model_full.createData()
+    for q in random_q(rcm_mech, 200, rng):
+        q_pin = rcm_mech.to_pin(q)
+        pin.framesForwardKinematics(rcm_mech.model, rcm_mech.data, q_pin)
+        pin.framesForwardKinematics(
+            rcm_mech.model_full, data_full, rcm_mech.coupling.q_full(q_pin)
+        )
+        for frame in rcm_mech.model.frames:
+            fid_full = rcm_mech.model_full.getFrameId(frame.name)
+            np.testing.assert_allclose(
+                rcm_mech.data.oMf[rcm_mech.model.getFrameId(frame.name)].homogeneous,
+                data_full.oMf[fid_full].homogeneous,
+                atol=EXACT,
+            )
+
+
+def test_coupling_multipliers_follow_tooth_counts():
+    mech = rcm_pin.load("rcm_bevel", z13=20, z14=40, z16=30, z17=15)
+    G = mech.coupling.G
+    names = mech.coupling.full_names
+    # pair10 = −(z13/z14)(z16/z17)·q2 = −(0.5)(2)·q2, shaft15 = −(z13/z14)·q2.
+    assert G[names.index("pair10"), 1] == pytest.approx(-1.0, abs=EXACT)
+    assert G[names.index("shaft15"), 1] == pytest.approx(-0.5, abs=EXACT)
+
+
+def test_unknown_mechanism_message():
+    with pytest.raises(UnknownMechanismError, match=r"unknown mechanism 'nope'; valid: rcm_bevel"):
+        rcm_pin.load("nope")
+
+
+def test_errors_share_one_base():
+    with pytest.raises(RcmPinError):
+        rcm_pin.load("nope")
+
+
+def test_unknown_xacro_argument_lists_valid_names():
+    with pytest.raises(XacroArgumentError, match=r"unknown xacro argument 'l99'.*valid: .*l9"):
+        rcm_pin.load("rcm_bevel", l99=0.3)
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        ({"l9": "abc"}, r"xacro argument l9='abc' is not a finite number"),
+        ({"l9": "nan"}, r"xacro argument l9='nan' is not a finite number"),
+        ({"wrist": "maybe"}, r"xacro argument wrist='maybe' is not a boolean; valid: true or false"),
+        ({"l9": -0.1}, r"xacro argument l9=-0.1 must be > 0 for rcm_bevel"),
+    ],
+)
+def test_malformed_xacro_arguments(args, message):
+    with pytest.raises(XacroArgumentError, match=message):
+        rcm_pin.load("rcm_bevel", **args)
+
+
+def test_fixed_argument_of_a_variant_is_refused():
+    with pytest.raises(XacroArgumentError, match=r"'wrist' is fixed by mechanism rcm_bevel_4dof"):
+        rcm_pin.load("rcm_bevel_4dof", wrist=True)
+
+
+def test_unknown_frame_lists_frames(rcm_mech):
+    with pytest.raises(UnknownFrameError, match=r"unknown frame 'nope' in rcm_.*valid: .*tool"):
+        rcm_mech.frame_id("nope")
+
+
+@pytest.mark.parametrize(
+    ("q", "message"),
+    [
+        ([0.0, 0.1], r"q has shape \(2,\); valid: \(6,\)"),
+        ([0.0, np.nan, 0.1, 0, 0, 0], r"q has NaN or infinite entries"),
+    ],
+)
+def test_bad_configuration(q, message):
+    mech = rcm_pin.load("rcm_bevel")
+    with pytest.raises(InvalidInputError, match=message):
+        rcm_pin.tool_pose(mech, np.array(q))
+
+
+def test_render_cache_key_depends_on_arguments_and_content(tmp_path):
+    spec = rcm_pin.catalog.get_spec("rcm_bevel")
+    k1 = cache_key(spec.xacro_path, {"l9": "0.2"})
+    k2 = cache_key(spec.xacro_path, {"l9": "0.3"})
+    assert k1 != k2
+    copy = tmp_path / spec.xacro
+    for source in spec.xacro_path.parent.glob("*.xacro"):
+        (tmp_path / source.name).write_text(source.read_text())
+    assert cache_key(copy, {"l9": "0.2"}) == k1
+    copy.write_text(copy.read_text() + "\n<!-- edit -->\n")
+    assert cache_key(copy, {"l9": "0.2"}) != k1
+
+
+def test_render_uses_disk_cache(tmp_path, monkeypatch):
+    import rcm_pin.render as render
+
+    monkeypatch.setenv("RCM_PIN_CACHE", str(tmp_path))
+    monkeypatch.setattr(render, "_memory", {})
+    spec = rcm_pin.catalog.get_spec("rcm_bevel")
+    text = render_xacro(spec.xacro_path, {"l9": 0.25})
+    cached = list((tmp_path / "urdf").glob("*.urdf"))
+    assert len(cached) == 1 and cached[0].read_text() == text
+    assert "l9" in declared_args(spec.xacro_path)
+
+
+def test_committed_urdfs_are_fresh():
+    assert check_rendered() == [], "run `rcm-pin urdf --update` and commit urdf/"
+
+
+@pytest.mark.parametrize("name", RCM_NAMES)
+def test_committed_urdf_loads_everywhere(name):
+    import yourdfpy
+
+    spec = rcm_pin.catalog.get_spec(name)
+    robot = yourdfpy.URDF.load(str(spec.urdf_path), load_meshes=False)
+    assert robot.validate()
+    model = pin.buildModelFromUrdf(str(spec.urdf_path), mimic=True)
+    assert model.nq == rcm_pin.load(name).nq
