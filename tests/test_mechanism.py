@@ -44,9 +44,7 @@ def test_coupling_reproduces_pinocchio_mimic_placements(rcm_mech):
     for q in random_q(rcm_mech, 200, rng):
         q_pin = rcm_mech.to_pin(q)
         pin.framesForwardKinematics(rcm_mech.model, rcm_mech.data, q_pin)
-        pin.framesForwardKinematics(
-            rcm_mech.model_full, data_full, rcm_mech.coupling.q_full(q_pin)
-        )
+        pin.framesForwardKinematics(rcm_mech.model_full, data_full, rcm_mech.coupling.q_full(q_pin))
         for frame in rcm_mech.model.frames:
             fid_full = rcm_mech.model_full.getFrameId(frame.name)
             np.testing.assert_allclose(
@@ -85,7 +83,10 @@ def test_unknown_xacro_argument_lists_valid_names():
     [
         ({"l9": "abc"}, r"xacro argument l9='abc' is not a finite number"),
         ({"l9": "nan"}, r"xacro argument l9='nan' is not a finite number"),
-        ({"wrist": "maybe"}, r"xacro argument wrist='maybe' is not a boolean; valid: true or false"),
+        (
+            {"wrist": "maybe"},
+            r"xacro argument wrist='maybe' is not a boolean; valid: true or false",
+        ),
         ({"l9": -0.1}, r"xacro argument l9=-0.1 must be > 0 for rcm_bevel"),
     ],
 )

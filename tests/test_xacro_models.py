@@ -1,4 +1,4 @@
-"""Scratch checks of the parametric xacro models of the RCM mechanism (papers 000/003).
+"""Checks of the parametric xacro models of the RCM mechanism (papers 000/003).
 
 Closed form (docs/conventions.md):
     p = q3 * e4,  e4 = Rx(q1) Ry(q2) z
@@ -6,16 +6,20 @@ Closed form (docs/conventions.md):
     R = Rx(q1) Ry(q2) Rz(q4) Ry(q5) Rx(q6)   (rpy)
     R = Rx(q1) Ry(q2) Rz(q4)                 (4-DOF)
 """
+
 from __future__ import annotations
 
 import subprocess
+import sys
 from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
 import pytest
-import xacro
 import yourdfpy
+
+from rcm_pin import closed_form as cf
+from rcm_pin.render import render_xacro
 
 ROOT = Path(__file__).resolve().parents[1]
 XACRO_DIR = ROOT / "xacro"
@@ -33,16 +37,32 @@ VARIANTS = {
     "belt_rpy": ("rcm_belt.urdf.xacro", {"wrist_type": "rpy"}, None, "rpy"),
     "belt_4dof": ("rcm_belt.urdf.xacro", {"wrist": "false"}, None, None),
     # non-unit single-stage ratios whose products are still 1 (kinematics unchanged)
-    "bevel_ratios": ("rcm_bevel.urdf.xacro",
-                     {"z13": "30", "z14": "15", "z16": "15", "z17": "30",
-                      "z18": "18", "z19": "24", "z21": "24", "z22": "18"}, None, "zyz"),
-    "bevel_geom": ("rcm_bevel.urdf.xacro", {"a7_x": "0.13", "a7_z": "-0.04", "l9": "0.27"}, None, "zyz"),
+    "bevel_ratios": (
+        "rcm_bevel.urdf.xacro",
+        {
+            "z13": "30",
+            "z14": "15",
+            "z16": "15",
+            "z17": "30",
+            "z18": "18",
+            "z19": "24",
+            "z21": "24",
+            "z22": "18",
+        },
+        None,
+        "zyz",
+    ),
+    "bevel_geom": (
+        "rcm_bevel.urdf.xacro",
+        {"a7_x": "0.13", "a7_z": "-0.04", "l9": "0.27"},
+        None,
+        "zyz",
+    ),
 }
 
 
 def render(xacro_name: str, args: dict[str, str]) -> str:
-    doc = xacro.process_file(str(XACRO_DIR / xacro_name), mappings=dict(args))
-    return doc.toprettyxml(indent="  ")
+    return render_xacro(XACRO_DIR / xacro_name, args)
 
 
 @pytest.fixture(scope="module", params=list(VARIANTS))
@@ -57,31 +77,10 @@ def variant(request, tmp_path_factory):
     return name, path, wrist
 
 
-def rx(a):
-    c, s = np.cos(a), np.sin(a)
-    return np.array([[1, 0, 0], [0, c, -s], [0, s, c]])
-
-
-def ry(a):
-    c, s = np.cos(a), np.sin(a)
-    return np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]])
-
-
-def rz(a):
-    c, s = np.cos(a), np.sin(a)
-    return np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
-
-
 def closed_form(q, wrist):
-    q1, q2, q3, q4 = q[:4]
-    r_out = rx(q1) @ ry(q2)
-    p = q3 * r_out[:, 2]
-    R = r_out @ rz(q4)
-    if wrist == "zyz":
-        R = R @ ry(q[4]) @ rz(q[5])
-    elif wrist == "rpy":
-        R = R @ ry(q[4]) @ rx(q[5])
-    return p, R
+    """Tool position and rotation from rcm_pin.closed_form (the papers' formulas)."""
+    T = cf.tool_pose(np.asarray(q), wrist)
+    return T[:3, 3], T[:3, :3]
 
 
 def random_qs(model, n=N_SAMPLES, seed=0):
@@ -91,17 +90,10 @@ def random_qs(model, n=N_SAMPLES, seed=0):
     return lo + (hi - lo) * rng.random((n, model.nq))
 
 
-def test_committed_urdfs_are_fresh():
-    for name in ("bevel", "bevel_4dof", "belt"):
-        xname, args, committed, _ = VARIANTS[name]
-        cmd = ["/work/venv/bin/xacro", f"xacro/{xname}"] + [f"{k}:={v}" for k, v in args.items()]
-        out = subprocess.run(cmd, check=True, capture_output=True, text=True, cwd=ROOT).stdout
-        assert out == (URDF_DIR / committed).read_text(), f"{committed} is stale: re-render"
-
-
 def test_check_urdf_and_yourdfpy(variant):
     name, path, wrist = variant
-    r = subprocess.run(["/work/venv/bin/check_urdf", str(path)], capture_output=True, text=True)
+    exe = Path(sys.executable).parent / "check_urdf"  # urdfdom's, installed with pin
+    r = subprocess.run([str(exe), str(path)], capture_output=True, text=True, check=False)
     assert r.returncode == 0, r.stderr
     u = yourdfpy.URDF.load(str(path))
     ndof = 6 if wrist else 4
@@ -148,8 +140,10 @@ def test_tool_pose_closed_form(variant):
         np.testing.assert_allclose(oMo.actInv(np.zeros(3)), [0, 0, l9], rtol=0, atol=TOL)
         err_A = max(err_A, np.abs(oMo.actInv(np.zeros(3)) - [0, 0, l9]).max())
         np.testing.assert_allclose(d.oMf[fid_rcm].homogeneous, np.eye(4), rtol=0, atol=0)
-    print(f"\n{name}: max|dp|={err_p:.2e} max|dR|={err_R:.2e} "
-          f"max dist(A, output axis)={err_line:.2e} max|A_out-(0,0,l9)|={err_A:.2e}")
+    print(
+        f"\n{name}: max|dp|={err_p:.2e} max|dR|={err_R:.2e} "
+        f"max dist(A, output axis)={err_line:.2e} max|A_out-(0,0,l9)|={err_A:.2e}"
+    )
 
 
 def test_mimic_vs_full_model(variant):
@@ -158,8 +152,11 @@ def test_mimic_vs_full_model(variant):
     mf = pin.buildModelFromUrdf(str(path), mimic=False)
     dm, df = mm.createData(), mf.createData()
     u = yourdfpy.URDF.load(str(path))
-    mimics = {j.name: (j.mimic.joint, j.mimic.multiplier, j.mimic.offset)
-              for j in u.robot.joints if j.mimic is not None}
+    mimics = {
+        j.name: (j.mimic.joint, j.mimic.multiplier, j.mimic.offset)
+        for j in u.robot.joints
+        if j.mimic is not None
+    }
     assert all(prim == "pair7" for prim, _, _ in mimics.values())
     err = 0.0
     for q in random_qs(mm, seed=1):
@@ -178,8 +175,9 @@ def test_mimic_vs_full_model(variant):
         for fid in range(1, mf.nframes):
             fr = mf.frames[fid]
             fid_m = mm.getFrameId(fr.name, fr.type)
-            np.testing.assert_allclose(dm.oMf[fid_m].homogeneous, df.oMf[fid].homogeneous,
-                                       rtol=0, atol=TOL)
+            np.testing.assert_allclose(
+                dm.oMf[fid_m].homogeneous, df.oMf[fid].homogeneous, rtol=0, atol=TOL
+            )
             err = max(err, np.abs(dm.oMf[fid_m].homogeneous - df.oMf[fid].homogeneous).max())
     print(f"\n{name}: mimic vs full, max frame difference {err:.2e}")
 
@@ -187,7 +185,9 @@ def test_mimic_vs_full_model(variant):
 def test_default_masses():
     for committed in ("rcm_bevel.urdf", "rcm_belt.urdf"):
         u = yourdfpy.URDF.load(str(URDF_DIR / committed))
-        mass = {n: (l.inertial.mass if l.inertial is not None else 0.0) for n, l in u.link_map.items()}
+        mass = {
+            n: (l.inertial.mass if l.inertial is not None else 0.0) for n, l in u.link_map.items()
+        }
         m_d = mass["intermediate_link"] + mass["initial_link"] / 3 + mass["output_link"] / 3
         np.testing.assert_allclose(m_d, 0.2, rtol=0, atol=1e-15)
         m_tool_side = sum(mass[n] for n in ("working_organ", "holder", "wrist_link", "tool_link"))
@@ -203,16 +203,33 @@ def test_multipliers_from_tooth_counts_and_diameters(tmp_path):
     z = {"z13": 30, "z14": 15, "z16": 16, "z17": 40, "z18": 18, "z19": 24, "z21": 25, "z22": 18}
     path = tmp_path / "b.urdf"
     path.write_text(render("rcm_bevel.urdf.xacro", {k: str(v) for k, v in z.items()}))
-    mult = {j.name: j.mimic.multiplier for j in yourdfpy.URDF.load(str(path)).robot.joints if j.mimic}
-    expected = {"pair10": -(30 / 15) * (16 / 40), "pair12": (18 / 24) * (25 / 18),
-                "shaft15": -(30 / 15), "shaft20": 18 / 24}
+    mult = {
+        j.name: j.mimic.multiplier for j in yourdfpy.URDF.load(str(path)).robot.joints if j.mimic
+    }
+    k1 = (30 / 15) * (16 / 40)  # train 2 is driven by link 9 turning k1*q2 relative to link 11
+    expected = {
+        "pair10": -k1,
+        "pair12": (18 / 24) * (25 / 18) * k1,
+        "shaft15": -(30 / 15),
+        "shaft20": 18 / 24 * k1,
+    }
     assert mult.keys() == expected.keys()
     for k, v in expected.items():
         np.testing.assert_allclose(mult[k], v, rtol=1e-15)
-    path.write_text(render("rcm_belt.urdf.xacro", {"d1": "0.03", "d2": "0.02", "d3": "0.025", "d4": "0.02"}))
-    mult = {j.name: j.mimic.multiplier for j in yourdfpy.URDF.load(str(path)).robot.joints if j.mimic}
-    expected = {"pair10": -1.5, "pair12": 1.25, "pulley_7": -1.0, "pulley_10a": -1.5,
-                "pulley_10b": 1.0, "pulley_12": 1.25}
+    path.write_text(
+        render("rcm_belt.urdf.xacro", {"d1": "0.03", "d2": "0.02", "d3": "0.025", "d4": "0.02"})
+    )
+    mult = {
+        j.name: j.mimic.multiplier for j in yourdfpy.URDF.load(str(path)).robot.joints if j.mimic
+    }
+    expected = {
+        "pair10": -1.5,
+        "pair12": 1.25 * 1.5,
+        "pulley_7": -1.0,
+        "pulley_10a": -1.5,
+        "pulley_10b": 1.5,
+        "pulley_12": 1.25 * 1.5,
+    }
     for k, v in expected.items():
         np.testing.assert_allclose(mult[k], v, rtol=1e-15)
 

@@ -1,0 +1,460 @@
+"""Vectorised analytic inverse kinematics of the RCM mechanisms, every branch.
+
+Pure numpy (no Pinocchio); inverts :mod:`rcm_pin.closed_form`.
+
+Position (p = q3·e4, e4 = [sin q2, −sin q1 cos q2, cos q1 cos q2]): with r = |p|,
+ρ = sqrt(y² + z²) the principal branch is q1 = atan2(−y, z), q2 = atan2(x, ρ)
+(cos q2 ≥ 0), q3 = r. As e4(q1 + π, π − q2) = e4 and e4(q1 + π, −q2) = e4(q1, q2 + π)
+= −e4, the position branches k are (angles wrapped to (−π, π])::
+
+    k = 0: (q1, q2, r)        k = 1: (q1 + π, π − q2, r)
+    k = 2: (q1 + π, −q2, −r)  k = 3: (q1, q2 + π, −r)
+
+Wrist: R_w = (Rx(q1)·Ry(q2))ᵀ·R = Rz(q4)·Ry(q5)·Rz(q6) (``"zyz"``, q5 ∈ [0, π], twin
+(q4 + π, −q5, q6 + π)) or Rz(q4)·Ry(q5)·Rx(q6) (``"rpy"``, q5 ∈ [−π/2, π/2], twin
+(q4 + π, π − q5, q6 + π)). Branches k = 1, 2, 3 reuse the k = 0 wrist through
+Rx(q1 + π)·Ry(π − q2) = R_out·Rz(π), Rx(q1 + π)·Ry(−q2) = R_out·Rx(π) and
+Rx(q1)·Ry(q2 + π) = R_out·Ry(π): only angle offsets. Branch index b = 2·k + w.
+
+Degenerate poses are reported (:class:`Degeneracy`), never
+resolved arbitrarily; undetermined coordinates are NaN. |p| ≤ ``pos_tol`` (1e-9 m) is
+TOOL_AT_RCM; ρ ≤ ``sing_tol``·|p| (|cos q2| ≤ 1e-9) is AXIS_ALONG_BASE; |sin q5|
+(``"zyz"``) or |cos q5| (``"rpy"``) ≤ ``sing_tol`` is WRIST_ALIGNED.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from enum import IntEnum
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from rcm_pin.closed_form import WRIST_TYPES, WristType
+from rcm_pin.errors import InvalidInputError, SingularConfigurationError, UnreachablePoseError
+from rcm_pin.rotations import ROTATION_TOL, FloatArray, project_to_rotation, rot_x, rot_y
+
+POS_TOL = 1e-9  # [m]
+SING_TOL = 1e-9  # [-] threshold on |cos q2|, |sin q5| or |cos q5|
+AXIS_TOL = 1e-9  # [m] 4-DOF: largest distance of p from the tool z axis line
+CHUNK = 16384  # poses per in-cache block
+_SCREEN = 1e-12  # rotations this close to SO(3) (first order) skip the SVD projection
+PI = np.pi
+
+Block = Callable[[FloatArray], tuple[list[FloatArray], np.ndarray]]
+
+
+class Degeneracy(IntEnum):
+    """Degeneracy code of a pose (one per pose; the first that applies, in this order)."""
+
+    NONE = 0
+    TOOL_AT_RCM = 1  # |p| ≈ 0: q3 = 0, q1, q2 (and the wrist) undetermined
+    AXIS_ALONG_BASE = 2  # e4 = ±x: cos q2 = 0, q1 undetermined
+    WRIST_ALIGNED = 3  # sin q5 = 0 (zyz) / cos q5 = 0 (rpy): only q4 ± q6 determined
+
+
+def _violation(q: FloatArray, lower: FloatArray, upper: FloatArray) -> FloatArray:
+    return np.maximum(lower - q, 0.0) + np.maximum(q - upper, 0.0)
+
+
+@dataclass(frozen=True)
+class IKSolutions:
+    """All IK branches of a batch of poses.
+
+    Attributes:
+        q: Solutions, shape ``(n_poses, n_branches, nq)`` (may be a non-contiguous view);
+            NaN where a coordinate is undetermined (see ``degenerate``).
+        degenerate: :class:`Degeneracy` codes, int8 array ``(n_poses,)``.
+        projection_distance: Frobenius distance of each input R from SO(3) ``(n_poses,)``
+            (first-order estimate below 1e-12, exact SVD value above; 0 for positions).
+        wrist_type: ``"zyz"``, ``"rpy"`` or ``None`` (4-DOF or position only).
+    """
+
+    q: FloatArray
+    degenerate: np.ndarray
+    projection_distance: FloatArray
+    wrist_type: WristType
+
+    def fit_limits(
+        self, lower: ArrayLike, upper: ArrayLike, tol: float = 1e-12
+    ) -> tuple[FloatArray, np.ndarray]:
+        """Shift angles by ±2π into ``[lower, upper]`` where that helps.
+
+        Args:
+            lower: Lower limits ``(nq,)`` (−inf allowed) [rad, m for q3].
+            upper: Upper limits ``(nq,)``.
+            tol: Accepted violation.
+
+        Returns:
+            ``(q_fitted, ok)``: ``q_fitted`` like ``q`` (each angle as q, q + 2π or
+            q − 2π, the one closest to the box) and ``ok`` ``(n_poses, n_branches)``.
+        """
+        nq = self.q.shape[-1]
+        lo, up = (np.broadcast_to(np.asarray(v, float), (nq,)) for v in (lower, upper))
+        if np.isnan(lo).any() or np.isnan(up).any() or (lo > up).any():
+            raise InvalidInputError(f"limits must be ({nq},) with lower <= upper, no NaN")
+        angle = np.arange(nq) != 2  # q3 is a length
+        best, viol = self.q.copy(), _violation(self.q, lo, up)
+        for s in (2 * PI, -2 * PI):
+            cand = self.q + s * angle
+            v = _violation(cand, lo, up)
+            better = v < viol
+            best[better], viol[better] = cand[better], v[better]
+        return best, (viol <= tol).all(-1)
+
+    def within_limits(self, lower: ArrayLike, upper: ArrayLike, tol: float = 1e-12) -> np.ndarray:
+        """Bool mask ``(n_poses, n_branches)``: branch inside the limits up to ±2π wraps."""
+        return self.fit_limits(lower, upper, tol)[1]
+
+
+class _V(IntEnum):
+    ID = 0  # a
+    NEG = 1  # −a
+    PP = 2  # a + π
+    MP = 3  # π − a
+
+
+_I, _N, _P, _M = _V.ID, _V.NEG, _V.PP, _V.MP
+_POS = [(_I, _I, _I), (_P, _M, _I), (_P, _N, _N), (_I, _P, _N)]  # (q1, q2, q3) per k
+_WRIST = {  # (q4, q5, q6) per branch b = 2k + w
+    "zyz": [(_I, _I, _I), (_P, _N, _P), (_P, _I, _I), (_I, _N, _P),
+            (_N, _M, _P), (_M, _P, _I), (_M, _M, _P), (_N, _P, _I)],
+    "rpy": [(_I, _I, _I), (_P, _M, _P), (_P, _I, _I), (_I, _M, _P),
+            (_N, _N, _P), (_M, _P, _I), (_M, _N, _P), (_N, _P, _I)],
+}  # fmt: skip
+_TABLE6 = {w: [_POS[b // 2] + t[b] for b in range(8)] for w, t in _WRIST.items()}
+_TABLE4 = [(_I, _I, _I, _I), (_P, _M, _I, _P)]  # 4-DOF: (q1, q2, q3, q4)
+
+
+def _variant(a: FloatArray, v: _V, angle: bool) -> FloatArray:
+    """The variant of ``a`` ∈ (−π, π], wrapped to (−π, π] (lengths: only ±a)."""
+    if v == _V.ID:
+        return a
+    if v == _V.NEG:
+        return np.where(a < PI, -a, a) if angle else -a
+    if v == _V.PP:
+        return a + np.where(a > 0.0, -PI, PI)
+    return np.where(a >= 0.0, PI, -PI) - a
+
+
+def _expand(cols: list[FloatArray], table: list[tuple[_V, ...]], out: FloatArray) -> None:
+    """Branch rows out[b·nq + j] = variant(cols[j], table[b][j]) (q3, j = 2, is a length)."""
+    nq = len(cols)
+    for j, a in enumerate(cols):
+        for v in sorted({t[j] for t in table}):
+            out[[b * nq + j for b, t in enumerate(table) if t[j] == v]] = _variant(a, v, j != 2)
+
+
+def _components(T: FloatArray, i0: int) -> FloatArray:
+    """Check a block of transforms (n, 3|4, 4); return its top 3x4 as rows (12, n)."""
+    if not np.isfinite(T.sum()) and not np.isfinite(T).all():
+        bad = int(np.flatnonzero(~np.isfinite(T).reshape(len(T), -1).all(1))[0]) + i0
+        raise InvalidInputError(f"T contains NaN or infinite entries (first at pose {bad})")
+    if T.shape[1] == 4:
+        dev = np.abs(T[:, 3, :] - np.array([0.0, 0.0, 0.0, 1.0])).max(1)
+        if dev.max() > 1e-9:
+            raise InvalidInputError(
+                f"last row of T must be [0, 0, 0, 1] (tolerance 1e-9); pose "
+                f"{int(dev.argmax()) + i0} deviates by {dev.max():.3g}"
+            )
+    c = np.empty((12, len(T)))
+    c.reshape(3, 4, len(T))[...] = T[:, :3, :].transpose(1, 2, 0)
+    return c
+
+
+def _check_rotation(c: FloatArray, rot_tol: float) -> FloatArray:
+    """Distances to SO(3); R with ||RᵀR − I||_F / 2 > 1e-12 or det ≤ 0 is SVD-projected."""
+    r = c.reshape(3, 4, -1)[:, :3]
+    g = (r[:, :, None] * r[:, None]).sum(0)  # RᵀR, (3, 3, n)
+    for i in range(3):
+        g[i, i] -= 1.0
+    dist = 0.5 * np.sqrt((g * g).sum((0, 1)))  # first-order distance (exact to O(d²))
+    det = (r[0, 0] * (r[1, 1] * r[2, 2] - r[1, 2] * r[2, 1])
+           - r[0, 1] * (r[1, 0] * r[2, 2] - r[1, 2] * r[2, 0])
+           + r[0, 2] * (r[1, 0] * r[2, 1] - r[1, 1] * r[2, 0]))  # fmt: skip
+    bad = np.flatnonzero((dist > _SCREEN) | (det <= 0.0))
+    if bad.size:
+        proj, d = project_to_rotation(r[:, :, bad].transpose(2, 0, 1), rot_tol)
+        r[:, :, bad] = proj.transpose(1, 2, 0)
+        dist[bad] = d
+    return dist
+
+
+def _position(x: FloatArray, y: FloatArray, z: FloatArray, pos_tol: float, sing_tol: float):
+    """Principal (q1, q2, r), ρ and the degeneracy masks (at A, along the base axis)."""
+    rho = np.sqrt(y * y + z * z)
+    r = np.sqrt(rho * rho + x * x)  # [m]
+    a1, a2 = np.arctan2(0.0 - y, z), np.arctan2(x, rho)  # [rad] (0 − y: no −0.0)
+    at_a = r <= pos_tol
+    return a1, a2, r, rho, at_a, (rho <= sing_tol * r) & ~at_a
+
+
+def _block6(wrist: str, pos_tol: float, sing_tol: float) -> Block:
+    j, k, m = (2, 0, 1) if wrist == "zyz" else (0, 2, 1)  # Rw columns read
+
+    def block(c: FloatArray) -> tuple[list[FloatArray], np.ndarray]:
+        a1, a2, r, rho, at_a, along = _position(c[3], c[7], c[11], pos_tol, sing_tol)
+        ir, irho = 1.0 / r, 1.0 / rho
+        ex, ey, ez = c[3] * ir, c[7] * ir, c[11] * ir  # e4 = p/r
+        c1, s1, c2 = c[11] * irho, -c[7] * irho, rho * ir
+        s1s2, c1s2 = s1 * ex, c1 * ex
+        w2j = ex * c[j] + ey * c[4 + j] + ez * c[8 + j]  # Rw[2, j] = e4·R[:, j]
+        w2k = ex * c[k] + ey * c[4 + k] + ez * c[8 + k]
+        w2m = ex * c[m] + ey * c[4 + m] + ez * c[8 + m]
+        w0j = c2 * c[j] + s1s2 * c[4 + j] - c1s2 * c[8 + j]  # Rw[0, j] = (R_out·x)·R[:, j]
+        w1j = c1 * c[4 + j] + s1 * c[8 + j]  # Rw[1, j] = e2·R[:, j]
+        h = np.sqrt(w0j * w0j + w1j * w1j)  # |sin q5| (zyz) or |cos q5| (rpy)
+        a4 = np.arctan2(w1j, w0j)  # [rad]
+        if wrist == "zyz":  # Rw[:, 2] = [c4 s5, s4 s5, c5], Rw[2, :2] = [−s5 c6, s5 s6]
+            a5, a6 = np.arctan2(h, w2j), np.arctan2(w2m, -w2k)
+        else:  # Rw[:, 0] = [c4 c5, s4 c5, −s5], Rw[2, 1:] = [c5 s6, c5 c6]
+            a5, a6 = np.arctan2(-w2j, h), np.arctan2(w2m, w2k)
+        code = np.zeros(len(r), dtype=np.int8)
+        aligned = h <= sing_tol
+        if at_a.any() or along.any() or aligned.any():
+            code[aligned] = Degeneracy.WRIST_ALIGNED
+            code[along] = Degeneracy.AXIS_ALONG_BASE
+            code[at_a] = Degeneracy.TOOL_AT_RCM
+            hh = np.sqrt(np.maximum(0.0, 1.0 - w2j * w2j))  # q5 needs only e4 when q1 is free
+            a5[along] = (np.arctan2(hh, w2j) if wrist == "zyz" else np.arctan2(-w2j, hh))[along]
+            a1[along] = np.nan
+            a4[code != 0] = a6[code != 0] = np.nan
+            a1[at_a] = a2[at_a] = a5[at_a] = np.nan
+        return [a1, a2, r, a4, a5, a6], code
+
+    return block
+
+
+def _run(
+    poses: FloatArray, block: Block, table: list[tuple[_V, ...]], check: bool, rot_tol: float
+) -> tuple[FloatArray, np.ndarray, FloatArray]:
+    """Chunked driver: q (n, n_branches, nq) as a view of a (n_branches·nq, n) buffer."""
+    n, nb, nq = len(poses), len(table), len(table[0])
+    buf = np.empty((nb * nq, n))
+    code = np.empty(n, dtype=np.int8)
+    dist = np.zeros(n)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for i0 in range(0, n, CHUNK):
+            c = _components(poses[i0 : i0 + CHUNK], i0)
+            if check:
+                dist[i0 : i0 + CHUNK] = _check_rotation(c, rot_tol)
+            cols, code[i0 : i0 + CHUNK] = block(c)
+            _expand(cols, table, buf[:, i0 : i0 + CHUNK])
+    return buf.reshape(nb, nq, n).transpose(2, 0, 1), code, dist
+
+
+def _as_poses(T: ArrayLike) -> FloatArray:
+    try:
+        a = np.asarray(T, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise InvalidInputError(f"T must be a numeric array: {exc}") from None
+    if a.ndim < 2 or a.shape[-1] != 4 or a.shape[-2] not in (3, 4):
+        raise InvalidInputError(f"T must have shape (..., 4, 4) or (..., 3, 4), got {a.shape}")
+    return a.reshape(-1, *a.shape[-2:])
+
+
+def ik_position(
+    p: ArrayLike, q3_sign: int | None = None, pos_tol: float = POS_TOL, sing_tol: float = SING_TOL
+) -> IKSolutions:
+    """All (q1, q2, q3) with q3·e4(q1, q2) = p.
+
+    Args:
+        p: Tool-centre positions [m], shape ``(..., 3)``.
+        q3_sign: ``None`` (4 branches k = 0..3), ``+1`` (k = 0, 1) or ``−1`` (k = 2, 3).
+        pos_tol: |p| [m] at or below which the pose is TOOL_AT_RCM.
+        sing_tol: |cos q2| at or below which the pose is AXIS_ALONG_BASE.
+
+    Returns:
+        :class:`IKSolutions` with q of shape ``(n_poses, 4 or 2, 3)``.
+    """
+    if q3_sign not in (None, 1, -1):
+        raise InvalidInputError(f"q3_sign must be None, +1 or -1, got {q3_sign!r}")
+    try:
+        a = np.asarray(p, dtype=np.float64)
+    except (TypeError, ValueError) as exc:
+        raise InvalidInputError(f"p must be a numeric array: {exc}") from None
+    if a.ndim < 1 or a.shape[-1] != 3:
+        raise InvalidInputError(f"p must have shape (..., 3), got {a.shape}")
+    if not np.isfinite(a).all():
+        raise InvalidInputError("p contains NaN or infinite entries")
+    a = a.reshape(-1, 3)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        a1, a2, r, _, at_a, along = _position(a[:, 0], a[:, 1], a[:, 2], pos_tol, sing_tol)
+    code = np.where(at_a, Degeneracy.TOOL_AT_RCM, np.where(along, Degeneracy.AXIS_ALONG_BASE, 0))
+    a1[along | at_a] = np.nan
+    a2[at_a] = np.nan
+    table = _POS if q3_sign is None else _POS[:2] if q3_sign > 0 else _POS[2:]
+    buf = np.empty((3 * len(table), len(a)))
+    _expand([a1, a2, r], table, buf)
+    q = buf.reshape(len(table), 3, -1).transpose(2, 0, 1)
+    return IKSolutions(q, code.astype(np.int8), np.zeros(len(a)), None)
+
+
+def ik_pose(
+    T: ArrayLike,
+    wrist_type: WristType = "zyz",
+    *,
+    check_rotation: bool = True,
+    rot_tol: float = ROTATION_TOL,
+    pos_tol: float = POS_TOL,
+    sing_tol: float = SING_TOL,
+) -> IKSolutions:
+    """All eight six-DOF solutions (4 position x 2 wrist branches) of tool poses.
+
+    Args:
+        T: Tool poses, shape ``(..., 4, 4)`` or ``(..., 3, 4)`` (position in [m]).
+        wrist_type: ``"zyz"`` (default) or ``"rpy"``; ``None`` delegates to
+            :func:`ik_pose_4dof`.
+        check_rotation: Screen R (first-order distance to SO(3)); matrices farther than
+            1e-12 are replaced by their SVD projection. ``False`` trusts the input.
+        rot_tol: Largest accepted projection distance (see ``project_to_rotation``).
+        pos_tol: |p| [m] at or below which the pose is TOOL_AT_RCM.
+        sing_tol: Threshold on |cos q2| and on |sin q5| (zyz) / |cos q5| (rpy).
+
+    Returns:
+        :class:`IKSolutions`, q of shape ``(n_poses, 8, 6)`` (a transposed view).
+
+    Raises:
+        InvalidInputError: Wrong shape, NaN / infinite entries or bad last row.
+        NotARotationError: Some R is farther than ``rot_tol`` from SO(3).
+    """
+    if wrist_type is None:
+        return ik_pose_4dof(T, check_rotation=check_rotation, rot_tol=rot_tol, sing_tol=sing_tol)
+    if wrist_type not in WRIST_TYPES:
+        raise InvalidInputError(f"wrist_type must be 'zyz', 'rpy' or None, got {wrist_type!r}")
+    block = _block6(wrist_type, pos_tol, sing_tol)
+    q, code, dist = _run(_as_poses(T), block, _TABLE6[wrist_type], check_rotation, rot_tol)
+    return IKSolutions(q, code, dist, wrist_type)
+
+
+def ik_pose_4dof(
+    T: ArrayLike,
+    *,
+    check_rotation: bool = True,
+    rot_tol: float = ROTATION_TOL,
+    axis_tol: float = AXIS_TOL,
+    sing_tol: float = SING_TOL,
+) -> IKSolutions:
+    """Both solutions of the four-DOF mechanism, R = Rx(q1)·Ry(q2)·Rz(q4), p = q3·e4.
+
+    e4 is the tool z axis, so (q1, q2) come from the orientation (two branches,
+    (q1, q2) and (q1 + π, π − q2)), q3 = p·e4 and q4 from the tool x axis. p = 0 is
+    regular here; AXIS_ALONG_BASE (|cos q2| ≤ ``sing_tol``) leaves q1 and q4 NaN.
+
+    Args:
+        T: Tool poses ``(..., 4, 4)`` or ``(..., 3, 4)``.
+        check_rotation: As in :func:`ik_pose`.
+        rot_tol: As in :func:`ik_pose`.
+        axis_tol: Largest distance [m] of p from the tool z axis through A.
+        sing_tol: Threshold on |cos q2|.
+
+    Returns:
+        :class:`IKSolutions`, q of shape ``(n_poses, 2, 4)``.
+
+    Raises:
+        UnreachablePoseError: p is off the tool z axis by more than ``axis_tol``.
+    """
+
+    def block(c: FloatArray) -> tuple[list[FloatArray], np.ndarray]:
+        ex, ey, ez = c[2], c[6], c[10]  # e4 = R·z
+        rho = np.sqrt(ey * ey + ez * ez)
+        a1, a2 = np.arctan2(-ey, ez), np.arctan2(ex, rho)
+        q3 = c[3] * ex + c[7] * ey + c[11] * ez  # [m]
+        off = np.sqrt((c[3] - q3 * ex) ** 2 + (c[7] - q3 * ey) ** 2 + (c[11] - q3 * ez) ** 2)
+        if off.max() > axis_tol:
+            i = int(off.argmax())
+            raise UnreachablePoseError(
+                f"4-DOF pose unreachable: the tool centre is {off[i]:.3g} m off the tool z "
+                f"axis through A (tolerance {axis_tol:g} m; block index {i}); "
+                "the tool z axis must lie along ±e4 = ±p/|p|"
+            )
+        c1, s1 = ez / rho, -ey / rho
+        w00 = rho * c[0] + s1 * ex * c[4] - c1 * ex * c[8]  # (R_out·x)·R[:, 0]
+        w10 = c1 * c[4] + s1 * c[8]  # e2·R[:, 0]
+        a4 = np.arctan2(w10, w00)
+        along = rho <= sing_tol
+        a1[along] = a4[along] = np.nan
+        return [a1, a2, q3, a4], np.where(along, Degeneracy.AXIS_ALONG_BASE, 0).astype(np.int8)
+
+    q, code, dist = _run(_as_poses(T), block, _TABLE4, check_rotation, rot_tol)
+    return IKSolutions(q, code, dist, None)
+
+
+def _singular_message(code: Degeneracy, T: FloatArray, q: FloatArray, wrist: WristType) -> str:
+    if code == Degeneracy.TOOL_AT_RCM:
+        return (
+            f"pose is singular ({code.name}): the tool centre is at the RCM point A "
+            f"(|p| = {np.linalg.norm(T[:3, 3]):.3g} m <= pos_tol), q3 = 0 and q1, q2 and "
+            "the wrist are not determined; valid poses have |p| > pos_tol"
+        )
+    if code == Degeneracy.AXIS_ALONG_BASE:
+        return (
+            f"pose is singular ({code.name}): the output axis e4 lies along the base "
+            f"axis x (cos q2 = 0, q2 = {q[1]:+.6f} rad), so q1 is not determined (q1 "
+            "only shifts the roll); valid poses have e4 off the x axis"
+        )
+    rw = (rot_x(q[0]) @ rot_y(q[1])).T @ T[:3, :3]
+    phi = np.arctan2(-rw[0, 1], rw[1, 1])  # R_w = Rz(phi)·Ry(q5)
+    if wrist == "zyz":
+        comb = "q4 + q6" if q[4] < PI / 2 else "q4 - q6"
+    else:
+        comb = "q4 - q6" if q[4] > 0 else "q4 + q6"
+    return (
+        f"pose is singular ({code.name}): the wrist axes are aligned (q5 = {q[4]:+.6f} "
+        f"rad), only {comb} = {phi:+.6f} rad is determined (branch 0: q1 = {q[0]:+.6f}, "
+        f"q2 = {q[1]:+.6f} rad); valid poses keep the tool axis off the q4 axis"
+    )
+
+
+def solve_pose(
+    T: ArrayLike,
+    lower: ArrayLike | None = None,
+    upper: ArrayLike | None = None,
+    wrist_type: WristType = "zyz",
+    **tols: float,
+) -> list[FloatArray]:
+    """IK solutions of one pose that lie within the joint limits.
+
+    Args:
+        T: One tool pose ``(4, 4)`` or ``(3, 4)``.
+        lower: Lower limits ``(n,)`` (n = 6, or 4 with ``wrist_type=None``); None = −inf.
+        upper: Upper limits ``(n,)``; None = +inf. Angles may be shifted by ±2π to fit.
+        wrist_type: ``"zyz"``, ``"rpy"`` or ``None`` (4-DOF).
+        **tols: Tolerances passed to :func:`ik_pose` / :func:`ik_pose_4dof`.
+
+    Returns:
+        The solutions, arrays ``(n,)``, in branch order.
+
+    Raises:
+        InvalidInputError: Not a single pose, NaN / infinite entries.
+        NotARotationError: R too far from SO(3).
+        SingularConfigurationError: Degenerate pose (names the degeneracy and what is valid).
+        UnreachablePoseError: No branch within the limits (lists limits, closest branch).
+    """
+    a = np.asarray(T, dtype=np.float64)
+    if a.shape not in ((4, 4), (3, 4)):
+        raise InvalidInputError(f"T must have shape (4, 4) or (3, 4), got {a.shape}")
+    sol = ik_pose(a, wrist_type, **tols)  # type: ignore[arg-type]
+    code = Degeneracy(int(sol.degenerate[0]))
+    if code != Degeneracy.NONE:
+        raise SingularConfigurationError(_singular_message(code, a, sol.q[0, 0], wrist_type))
+    nq = sol.q.shape[-1]
+    lo = np.full(nq, -np.inf) if lower is None else np.asarray(lower, float)
+    up = np.full(nq, np.inf) if upper is None else np.asarray(upper, float)
+    if lo.shape != (nq,) or up.shape != (nq,):
+        raise InvalidInputError(f"limits must have shape ({nq},), got {lo.shape}, {up.shape}")
+    qf, ok = sol.fit_limits(lo, up)
+    if not ok[0].any():
+        viol = _violation(qf[0], lo, up).sum(-1)
+        b = int(np.argmin(viol))
+        raise UnreachablePoseError(
+            f"no IK branch lies within the joint limits lower={np.round(lo, 6).tolist()}, "
+            f"upper={np.round(up, 6).tolist()}; closest branch {b}: "
+            f"q={np.round(qf[0, b], 6).tolist()} (total violation {viol[b]:.3g})"
+        )
+    return [qf[0, b].copy() for b in np.flatnonzero(ok[0])]
+
+
+__all__ = ["AXIS_TOL", "POS_TOL", "SING_TOL", "Degeneracy", "IKSolutions", "ik_pose",
+           "ik_pose_4dof", "ik_position", "solve_pose"]  # fmt: skip
