@@ -27,15 +27,16 @@ def frame_pose(mech: Mechanism, q: np.ndarray, frame: str | int | None = None) -
     Returns:
         4x4 matrix [R p; 0 1], p in [m].
     """
-    q = mech.check_q(q)
+    q_pin = mech.q_pin(q)
     fid = mech.tool_frame_id if frame is None else _fid(mech, frame)
-    pin.forwardKinematics(mech.model, mech.data, mech.to_pin(q))
+    pin.forwardKinematics(mech.model, mech.data, q_pin)
     return pin.updateFramePlacement(mech.model, mech.data, fid).homogeneous
 
 
 def tool_pose(mech: Mechanism, q: np.ndarray) -> np.ndarray:
-    """Tool-centre pose (4x4) from Pinocchio."""
-    return frame_pose(mech, q)
+    """Tool-centre pose (4x4) from Pinocchio (see :func:`frame_pose`)."""
+    pin.forwardKinematics(mech.model, mech.data, mech.q_pin(q))
+    return pin.updateFramePlacement(mech.model, mech.data, mech.tool_frame_id).homogeneous
 
 
 def tool_poses(mech: Mechanism, qs: np.ndarray) -> np.ndarray:

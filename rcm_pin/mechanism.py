@@ -12,8 +12,10 @@ read from the URDF's ``<mimic>`` tags independently of Pinocchio's own mimic sup
 
 from __future__ import annotations
 
+import math
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
+from functools import cached_property
 from pathlib import Path
 
 import numpy as np
@@ -112,6 +114,28 @@ class Mechanism:
         """Pinocchio q -> Mechanism coordinates."""
         return np.asarray(q_pin, dtype=float)[..., self.q_index]
 
+    def q_pin(self, q: np.ndarray) -> np.ndarray:
+        """Validated Pinocchio configuration of one coordinate vector (the hot path).
+
+        A float64 array of the right shape is checked for NaN with one dot product and
+        passed through without a copy when Pinocchio's order is the papers' order.
+
+        Raises:
+            InvalidInputError: wrong shape or NaN / infinite entries.
+        """
+        if not (type(q) is np.ndarray and q.shape == (self.nq,) and q.dtype == np.float64):
+            q = self.check_q(q)
+        elif not math.isfinite(q.dot(q)):
+            q = self.check_q(q)  # raises with the full message
+        if self.identity_order:
+            return q
+        return self.to_pin(q)
+
+    @cached_property
+    def identity_order(self) -> bool:
+        """Whether Pinocchio's q order equals the Mechanism coordinate order."""
+        return bool(self.model.nq == self.nq and np.array_equal(self.q_index, np.arange(self.nq)))
+
     def check_q(self, q: np.ndarray, name: str = "q") -> np.ndarray:
         """Validate a coordinate vector: shape (n,) and finite.
 
@@ -177,7 +201,9 @@ def load(name_or_path: str | Path, **xacro_args: object) -> Mechanism:
                 f"xacro argument {key!r} is fixed by mechanism {spec.name} "
                 f"({key}={spec.fixed_args[key]}); load {spec.xacro} variants by path instead"
             )
-    args: dict[str, object] = dict(validate_args(spec.xacro_path, {**spec.fixed_args, **xacro_args}))
+    args: dict[str, object] = dict(
+        validate_args(spec.xacro_path, {**spec.fixed_args, **xacro_args})
+    )
     _check_positive(spec, args)
     urdf = render_xacro(spec.xacro_path, args)
     return from_urdf(urdf, name=spec.name, args=args, spec=spec)

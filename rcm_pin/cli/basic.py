@@ -58,7 +58,11 @@ def cmd_urdf(args: argparse.Namespace) -> int:
             emit(args, {"written": [str(p) for p in written]}, "\n".join(map(str, written)))
             return 0
         stale = check_rendered()
-        emit(args, {"stale": stale}, "urdf/ is up to date" if not stale else "stale: " + ", ".join(stale))
+        emit(
+            args,
+            {"stale": stale},
+            "urdf/ is up to date" if not stale else "stale: " + ", ".join(stale),
+        )
         return 1 if stale else 0
     if not args.name:
         raise XacroArgumentError("rcm-pin urdf needs NAME, --check or --update")
@@ -108,10 +112,11 @@ def cmd_ik(args: argparse.Namespace) -> int:
         payload = inverse_position(mech, parse_vector(args.pose, "pose")).to_json()
         emit(args, payload, str(payload))
         return 0
-    from rcm_pin.inverse import solve_ik
+    from rcm_pin.inverse import solve_ik, solve_ik_position
 
     T = _target(args)
-    solution = solve_ik(mech, T)
+    position_only = bool(args.xyz) and not args.rpy and not args.pose
+    solution = solve_ik_position(mech, T[:3, 3]) if position_only else solve_ik(mech, T)
     branches = [
         {"q": dict(zip(mech.coordinate_names, q.tolist())), "within_limits": bool(ok)}
         for q, ok in zip(solution.q, solution.within_limits)
@@ -120,10 +125,15 @@ def cmd_ik(args: argparse.Namespace) -> int:
     payload = {
         "mechanism": mech.name,
         "target": T,
+        "position_only": position_only,
         "rotation_projection_distance": solution.projection_distance,
         "branches": branches,
     }
-    lines = [f"rotation projected by {solution.projection_distance:.3g} (Frobenius)"]
+    lines = (
+        ["position only: q1..q3 (the remaining coordinates are free)"]
+        if position_only
+        else [f"rotation projected by {solution.projection_distance:.3g} (Frobenius)"]
+    )
     lines += [
         f"{'in ' if b['within_limits'] else 'out'} q = {fmt(np.array(list(b['q'].values())), 4)}"
         for b in branches

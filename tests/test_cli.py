@@ -1,0 +1,82 @@
+"""The command line: each subcommand's JSON output and its typed errors."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from rcm_pin.cli import main
+
+
+def run(capsys, *argv):
+    code = main(list(argv))
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+def test_list_json(capsys):
+    code, out, _ = run(capsys, "list", "--json")
+    names = [m["name"] for m in json.loads(out)["mechanisms"]]
+    assert code == 0 and {"rcm_bevel", "rcm_bevel_4dof", "rcm_belt"} <= set(names)
+
+
+def test_fk_json_matches_closed_form(capsys):
+    from rcm_pin import closed_form
+
+    q = [0.1, -0.2, 0.08, 0.3, 0.4, -0.5]
+    code, out, _ = run(capsys, "fk", "rcm_bevel", "--q", ",".join(map(str, q)), "--json")
+    payload = json.loads(out)
+    assert code == 0
+    np.testing.assert_allclose(payload["tool_pose"], closed_form.tool_pose(np.array(q)), atol=1e-12)
+    assert payload["rcm_error"] < 1e-12
+    assert list(payload["q"]) == ["q1", "q2", "q3", "q4", "q5", "q6"]
+
+
+def test_ik_json_prints_the_paper_example(capsys):
+    pose = "0.75,-0.433,0.5,0;0.5,0.866,0,0;-0.433,0.25,0.866,0.01"
+    code, out, _ = run(capsys, "ik", "rcm_bevel", "--pose", pose, "--json")
+    branches = [list(b["q"].values()) for b in json.loads(out)["branches"]]
+    target = np.array([0, 0, 0.01, 0, 0.524, 0.524])
+    assert code == 0
+    assert np.min(np.abs(np.array(branches) - target).max(axis=1)) < 5e-4
+
+
+def test_ik_xyz_rpy(capsys):
+    code, out, _ = run(capsys, "ik", "rcm_bevel", "--xyz", "0.02,-0.03,0.09", "--rpy", "0.1,0.2,0.3",
+                       "--within-limits", "--json")  # fmt: skip
+    payload = json.loads(out)
+    assert (
+        code == 0 and payload["branches"] and all(b["within_limits"] for b in payload["branches"])
+    )
+
+
+def test_urdf_check_and_render(capsys, tmp_path):
+    assert run(capsys, "urdf", "--check")[0] == 0
+    target = tmp_path / "x.urdf"
+    code, _, _ = run(capsys, "urdf", "rcm_bevel", "--arg", "l9=0.25", "-o", str(target))
+    assert code == 0 and "<robot" in target.read_text()
+
+
+@pytest.mark.parametrize(
+    ("argv", "kind", "message"),
+    [
+        (["fk", "nope", "--q", "0"], "UnknownMechanismError", "unknown mechanism 'nope'; valid:"),
+        (["fk", "rcm_bevel", "--q", "0,1"], "InvalidInputError", "--q has 2 values; valid: exactly 6"),
+        (["fk", "rcm_bevel", "--q", "0,a"], "InvalidInputError", "is not a comma-separated list"),
+        (["urdf", "rcm_bevel", "--arg", "l9"], "XacroArgumentError", "--arg 'l9' is not key=value"),
+        (["ik", "rcm_bevel", "--pose", "1,0,0,0;0,1,0,0;0,0,1,0"], "SingularConfigurationError",
+         "TOOL_AT_RCM"),
+        (["ik", "rcm_bevel"], "InvalidInputError", "ik needs --pose, or --xyz"),
+    ],
+)  # fmt: skip
+def test_errors_are_typed_json(capsys, argv, kind, message):
+    code, out, _ = run(capsys, *argv, "--json")
+    error = json.loads(out)["error"]
+    assert code == 2 and error["type"] == kind and message in error["message"]
+
+
+def test_error_without_json_goes_to_stderr(capsys):
+    code, out, err = run(capsys, "fk", "nope", "--q", "0")
+    assert code == 2 and out == "" and "UnknownMechanismError: unknown mechanism 'nope'" in err
