@@ -24,7 +24,7 @@ TOOL_AT_RCM; ρ ≤ ``sing_tol``·|p| (|cos q2| ≤ 1e-9) is AXIS_ALONG_BASE; |s
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from enum import IntEnum
 
@@ -38,7 +38,8 @@ from rcm_pin.rotations import ROTATION_TOL, FloatArray, project_to_rotation, rot
 POS_TOL = 1e-9  # [m]
 SING_TOL = 1e-9  # [-] threshold on |cos q2|, |sin q5| or |cos q5|
 AXIS_TOL = 1e-9  # [m] 4-DOF: largest distance of p from the tool z axis line
-CHUNK = 16384  # poses per in-cache block
+CHUNK = 8192  # poses per in-cache block
+_NEAR = 1e-3  # below this |sin q5| (|cos q5|) q6 is recomputed from q4 ± q6
 _SCREEN = 1e-12  # rotations this close to SO(3) (first order) skip the SVD projection
 PI = np.pi
 
@@ -91,7 +92,10 @@ class IKSolutions:
             q − 2π, the one closest to the box) and ``ok`` ``(n_poses, n_branches)``.
         """
         nq = self.q.shape[-1]
-        lo, up = (np.broadcast_to(np.asarray(v, float), (nq,)) for v in (lower, upper))
+        try:
+            lo, up = (np.broadcast_to(np.asarray(v, float), (nq,)) for v in (lower, upper))
+        except ValueError:
+            raise InvalidInputError(f"limits must have shape ({nq},)") from None
         if np.isnan(lo).any() or np.isnan(up).any() or (lo > up).any():
             raise InvalidInputError(f"limits must be ({nq},) with lower <= upper, no NaN")
         angle = np.arange(nq) != 2  # q3 is a length
@@ -101,7 +105,7 @@ class IKSolutions:
             v = _violation(cand, lo, up)
             better = v < viol
             best[better], viol[better] = cand[better], v[better]
-        return best, (viol <= tol).all(-1)
+        return best, np.asarray((viol <= tol).all(-1))
 
     def within_limits(self, lower: ArrayLike, upper: ArrayLike, tol: float = 1e-12) -> np.ndarray:
         """Bool mask ``(n_poses, n_branches)``: branch inside the limits up to ±2π wraps."""
@@ -138,41 +142,47 @@ def _variant(a: FloatArray, v: _V, angle: bool) -> FloatArray:
     return np.where(a >= 0.0, PI, -PI) - a
 
 
-def _expand(cols: list[FloatArray], table: list[tuple[_V, ...]], out: FloatArray) -> None:
+def _expand(cols: list[FloatArray], table: Sequence[tuple[_V, ...]], out: FloatArray) -> None:
     """Branch rows out[b·nq + j] = variant(cols[j], table[b][j]) (q3, j = 2, is a length)."""
     nq = len(cols)
     for j, a in enumerate(cols):
         for v in sorted({t[j] for t in table}):
-            out[[b * nq + j for b, t in enumerate(table) if t[j] == v]] = _variant(a, v, j != 2)
+            val = _variant(a, v, j != 2)
+            for row in (b * nq + j for b, t in enumerate(table) if t[j] == v):
+                out[row] = val
 
 
 def _components(T: FloatArray, i0: int) -> FloatArray:
-    """Check a block of transforms (n, 3|4, 4); return its top 3x4 as rows (12, n)."""
-    if not np.isfinite(T.sum()) and not np.isfinite(T).all():
-        bad = int(np.flatnonzero(~np.isfinite(T).reshape(len(T), -1).all(1))[0]) + i0
+    """Check a block of transforms (n, 3|4, 4); return its entries as rows (12|16, n)."""
+    n, m = T.shape[0], T.shape[1] * 4
+    c = np.empty((m, n))
+    np.copyto(c.T, T.reshape(n, m))  # row 4·i + j holds T[:, i, j]
+    if not np.isfinite(c.sum()) and not np.isfinite(c).all():
+        bad = int(np.flatnonzero(~np.isfinite(c).all(0))[0]) + i0
         raise InvalidInputError(f"T contains NaN or infinite entries (first at pose {bad})")
-    if T.shape[1] == 4:
-        dev = np.abs(T[:, 3, :] - np.array([0.0, 0.0, 0.0, 1.0])).max(1)
-        if dev.max() > 1e-9:
-            raise InvalidInputError(
-                f"last row of T must be [0, 0, 0, 1] (tolerance 1e-9); pose "
-                f"{int(dev.argmax()) + i0} deviates by {dev.max():.3g}"
-            )
-    c = np.empty((12, len(T)))
-    c.reshape(3, 4, len(T))[...] = T[:, :3, :].transpose(1, 2, 0)
+    if m == 16 and max(np.abs(c[12:15]).max(), np.abs(c[15] - 1.0).max()) > 1e-9:
+        dev = np.abs(c[12:16] - np.array([[0.0], [0.0], [0.0], [1.0]])).max(0)
+        raise InvalidInputError(
+            f"last row of T must be [0, 0, 0, 1] (tolerance 1e-9); pose "
+            f"{int(dev.argmax()) + i0} deviates by {dev.max():.3g}"
+        )
     return c
 
 
 def _check_rotation(c: FloatArray, rot_tol: float) -> FloatArray:
     """Distances to SO(3); R with ||RᵀR − I||_F / 2 > 1e-12 or det ≤ 0 is SVD-projected."""
-    r = c.reshape(3, 4, -1)[:, :3]
-    g = (r[:, :, None] * r[:, None]).sum(0)  # RᵀR, (3, 3, n)
-    for i in range(3):
-        g[i, i] -= 1.0
-    dist = 0.5 * np.sqrt((g * g).sum((0, 1)))  # first-order distance (exact to O(d²))
-    det = (r[0, 0] * (r[1, 1] * r[2, 2] - r[1, 2] * r[2, 1])
-           - r[0, 1] * (r[1, 0] * r[2, 2] - r[1, 2] * r[2, 0])
-           + r[0, 2] * (r[1, 0] * r[2, 1] - r[1, 1] * r[2, 0]))  # fmt: skip
+    r = c[:12].reshape(3, 4, -1)[:, :3]  # r[i, j] = R[:, i, j]
+    x, y, z = r[:, 0], r[:, 1], r[:, 2]  # columns of R, each (3, n)
+
+    def dot(u: FloatArray, v: FloatArray) -> FloatArray:
+        return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
+
+    gxx, gyy, gzz = dot(x, x) - 1.0, dot(y, y) - 1.0, dot(z, z) - 1.0
+    gxy, gxz, gyz = dot(x, y), dot(x, z), dot(y, z)
+    sq = gxx * gxx + gyy * gyy + gzz * gzz + 2.0 * (gxy * gxy + gxz * gxz + gyz * gyz)
+    dist = 0.5 * np.sqrt(sq)  # first-order distance ||RᵀR − I||_F / 2 (exact to O(d²))
+    det = z[0] * (x[1] * y[2] - x[2] * y[1]) + z[1] * (x[2] * y[0] - x[0] * y[2])
+    det += z[2] * (x[0] * y[1] - x[1] * y[0])
     bad = np.flatnonzero((dist > _SCREEN) | (det <= 0.0))
     if bad.size:
         proj, d = project_to_rotation(r[:, :, bad].transpose(2, 0, 1), rot_tol)
@@ -188,6 +198,30 @@ def _position(x: FloatArray, y: FloatArray, z: FloatArray, pos_tol: float, sing_
     a1, a2 = np.arctan2(0.0 - y, z), np.arctan2(x, rho)  # [rad] (0 − y: no −0.0)
     at_a = r <= pos_tol
     return a1, a2, r, rho, at_a, (rho <= sing_tol * r) & ~at_a
+
+
+def _wrist_near_aligned(
+    c: FloatArray, a1: FloatArray, a2: FloatArray, a4: FloatArray, wrist: str
+) -> FloatArray:
+    """q6 near sin q5 = 0 (zyz) / cos q5 = 0 (rpy) from the well-conditioned q4 ± q6.
+
+    zyz: Rw10 − Rw01 = (1 + c5) sin(q4 + q6), Rw00 + Rw11 = (1 + c5) cos(q4 + q6),
+    Rw10 + Rw01 = (c5 − 1) sin(q4 − q6), Rw00 − Rw11 = (c5 − 1) cos(q4 − q6).
+    rpy: Rw12 − Rw01 = (1 + s5) sin(q4 − q6), Rw11 + Rw02 = (1 + s5) cos(q4 − q6),
+    Rw12 + Rw01 = (s5 − 1) sin(q4 + q6), Rw11 − Rw02 = (1 − s5) cos(q4 + q6).
+    """
+    rw = np.swapaxes(rot_x(a1) @ rot_y(a2), -1, -2) @ c.reshape(3, 4, -1)[:, :3].transpose(2, 0, 1)
+    w = {f"{i}{j}": rw[:, i, j] for i in range(3) for j in range(3)}
+    if wrist == "zyz":
+        plus = w["22"] >= 0.0  # near q5 = 0: q4 + q6 well determined, else q4 − q6
+        s = np.arctan2(w["10"] - w["01"], w["00"] + w["11"])
+        d = np.arctan2(-(w["10"] + w["01"]), w["11"] - w["00"])
+    else:
+        plus = w["20"] >= 0.0  # s5 = −Rw20 ≤ 0: q4 + q6 well determined
+        s = np.arctan2(-(w["12"] + w["01"]), w["11"] - w["02"])
+        d = np.arctan2(w["12"] - w["01"], w["11"] + w["02"])
+    q6 = np.where(plus, s - a4, a4 - d)
+    return q6 - 2.0 * PI * np.ceil((q6 - PI) / (2.0 * PI))  # wrap to (−π, π]
 
 
 def _block6(wrist: str, pos_tol: float, sing_tol: float) -> Block:
@@ -212,6 +246,9 @@ def _block6(wrist: str, pos_tol: float, sing_tol: float) -> Block:
             a5, a6 = np.arctan2(-w2j, h), np.arctan2(w2m, w2k)
         code = np.zeros(len(r), dtype=np.int8)
         aligned = h <= sing_tol
+        near = np.flatnonzero((h < _NEAR) & ~aligned)
+        if near.size:
+            a6[near] = _wrist_near_aligned(c[:12, near], a1[near], a2[near], a4[near], wrist)
         if at_a.any() or along.any() or aligned.any():
             code[aligned] = Degeneracy.WRIST_ALIGNED
             code[along] = Degeneracy.AXIS_ALONG_BASE
@@ -227,7 +264,7 @@ def _block6(wrist: str, pos_tol: float, sing_tol: float) -> Block:
 
 
 def _run(
-    poses: FloatArray, block: Block, table: list[tuple[_V, ...]], check: bool, rot_tol: float
+    poses: FloatArray, block: Block, table: Sequence[tuple[_V, ...]], check: bool, rot_tol: float
 ) -> tuple[FloatArray, np.ndarray, FloatArray]:
     """Chunked driver: q (n, n_branches, nq) as a view of a (n_branches·nq, n) buffer."""
     n, nb, nq = len(poses), len(table), len(table[0])

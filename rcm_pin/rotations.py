@@ -159,8 +159,7 @@ def project_to_rotation(R: ArrayLike, tol: float = ROTATION_TOL) -> tuple[FloatA
     """
     m = as_finite(R, "R", (3, 3))
     u, _, vt = np.linalg.svd(m)
-    d = np.sign(np.linalg.det(u @ vt))
-    d[d == 0] = 1.0
+    d = np.where(np.linalg.det(u @ vt) < 0.0, -1.0, 1.0)
     u[..., :, 2] *= d[..., None]
     proj = u @ vt
     dist = np.linalg.norm((m - proj).reshape(*m.shape[:-2], 9), axis=-1)
