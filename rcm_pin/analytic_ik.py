@@ -25,14 +25,14 @@ TOOL_AT_RCM; ρ ≤ ``sing_tol``·|p| (|cos q2| ≤ 1e-9) is AXIS_ALONG_BASE; |s
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
 from enum import IntEnum
 
 import numpy as np
 from numpy.typing import ArrayLike
 
 from rcm_pin.closed_form import WRIST_TYPES, WristType
-from rcm_pin.errors import InvalidInputError, SingularConfigurationError, UnreachablePoseError
+from rcm_pin.errors import InvalidInputError, UnreachablePoseError
+from rcm_pin.ik_solutions import Degeneracy, IKSolutions
 from rcm_pin.rotations import ROTATION_TOL, FloatArray, project_to_rotation, rot_x, rot_y
 
 POS_TOL = 1e-9  # [m]
@@ -44,72 +44,6 @@ _SCREEN = 1e-12  # rotations this close to SO(3) (first order) skip the SVD proj
 PI = np.pi
 
 Block = Callable[[FloatArray], tuple[list[FloatArray], np.ndarray]]
-
-
-class Degeneracy(IntEnum):
-    """Degeneracy code of a pose (one per pose; the first that applies, in this order)."""
-
-    NONE = 0
-    TOOL_AT_RCM = 1  # |p| ≈ 0: q3 = 0, q1, q2 (and the wrist) undetermined
-    AXIS_ALONG_BASE = 2  # e4 = ±x: cos q2 = 0, q1 undetermined
-    WRIST_ALIGNED = 3  # sin q5 = 0 (zyz) / cos q5 = 0 (rpy): only q4 ± q6 determined
-
-
-def _violation(q: FloatArray, lower: FloatArray, upper: FloatArray) -> FloatArray:
-    return np.maximum(lower - q, 0.0) + np.maximum(q - upper, 0.0)
-
-
-@dataclass(frozen=True)
-class IKSolutions:
-    """All IK branches of a batch of poses.
-
-    Attributes:
-        q: Solutions, shape ``(n_poses, n_branches, nq)`` (may be a non-contiguous view);
-            NaN where a coordinate is undetermined (see ``degenerate``).
-        degenerate: :class:`Degeneracy` codes, int8 array ``(n_poses,)``.
-        projection_distance: Frobenius distance of each input R from SO(3) ``(n_poses,)``
-            (first-order estimate below 1e-12, exact SVD value above; 0 for positions).
-        wrist_type: ``"zyz"``, ``"rpy"`` or ``None`` (4-DOF or position only).
-    """
-
-    q: FloatArray
-    degenerate: np.ndarray
-    projection_distance: FloatArray
-    wrist_type: WristType
-
-    def fit_limits(
-        self, lower: ArrayLike, upper: ArrayLike, tol: float = 1e-12
-    ) -> tuple[FloatArray, np.ndarray]:
-        """Shift angles by ±2π into ``[lower, upper]`` where that helps.
-
-        Args:
-            lower: Lower limits ``(nq,)`` (−inf allowed) [rad, m for q3].
-            upper: Upper limits ``(nq,)``.
-            tol: Accepted violation.
-
-        Returns:
-            ``(q_fitted, ok)``: ``q_fitted`` like ``q`` (each angle as q, q + 2π or
-            q − 2π, the one closest to the box) and ``ok`` ``(n_poses, n_branches)``.
-        """
-        nq = self.q.shape[-1]
-        try:
-            lo, up = (np.broadcast_to(np.asarray(v, float), (nq,)) for v in (lower, upper))
-        except ValueError:
-            raise InvalidInputError(f"limits must have shape ({nq},)") from None
-        if np.isnan(lo).any() or np.isnan(up).any() or (lo > up).any():
-            raise InvalidInputError(f"limits must be ({nq},) with lower <= upper, no NaN")
-        angle = np.arange(nq) != 2  # q3 is a length
-        best, viol = self.q.copy(), _violation(self.q, lo, up)
-        for s in (2 * PI, -2 * PI):
-            cand = self.q + s * angle
-            v = _violation(cand, lo, up)
-            better = v < viol
-            best[better], viol[better] = cand[better], v[better]
-        return best, np.asarray((viol <= tol).all(-1))
-
-    def within_limits(self, lower: ArrayLike, upper: ArrayLike, tol: float = 1e-12) -> np.ndarray:
-        """Bool mask ``(n_poses, n_branches)``: branch inside the limits up to ±2π wraps."""
-        return self.fit_limits(lower, upper, tol)[1]
 
 
 class _V(IntEnum):
@@ -418,80 +352,5 @@ def ik_pose_4dof(
     return IKSolutions(q, code, dist, None)
 
 
-def _singular_message(code: Degeneracy, T: FloatArray, q: FloatArray, wrist: WristType) -> str:
-    if code == Degeneracy.TOOL_AT_RCM:
-        return (
-            f"pose is singular ({code.name}): the tool centre is at the RCM point A "
-            f"(|p| = {np.linalg.norm(T[:3, 3]):.3g} m <= pos_tol), q3 = 0 and q1, q2 and "
-            "the wrist are not determined; valid poses have |p| > pos_tol"
-        )
-    if code == Degeneracy.AXIS_ALONG_BASE:
-        return (
-            f"pose is singular ({code.name}): the output axis e4 lies along the base "
-            f"axis x (cos q2 = 0, q2 = {q[1]:+.6f} rad), so q1 is not determined (q1 "
-            "only shifts the roll); valid poses have e4 off the x axis"
-        )
-    rw = (rot_x(q[0]) @ rot_y(q[1])).T @ T[:3, :3]
-    phi = np.arctan2(-rw[0, 1], rw[1, 1])  # R_w = Rz(phi)·Ry(q5)
-    if wrist == "zyz":
-        comb = "q4 + q6" if q[4] < PI / 2 else "q4 - q6"
-    else:
-        comb = "q4 - q6" if q[4] > 0 else "q4 + q6"
-    return (
-        f"pose is singular ({code.name}): the wrist axes are aligned (q5 = {q[4]:+.6f} "
-        f"rad), only {comb} = {phi:+.6f} rad is determined (branch 0: q1 = {q[0]:+.6f}, "
-        f"q2 = {q[1]:+.6f} rad); valid poses keep the tool axis off the q4 axis"
-    )
-
-
-def solve_pose(
-    T: ArrayLike,
-    lower: ArrayLike | None = None,
-    upper: ArrayLike | None = None,
-    wrist_type: WristType = "zyz",
-    **tols: float,
-) -> list[FloatArray]:
-    """IK solutions of one pose that lie within the joint limits.
-
-    Args:
-        T: One tool pose ``(4, 4)`` or ``(3, 4)``.
-        lower: Lower limits ``(n,)`` (n = 6, or 4 with ``wrist_type=None``); None = −inf.
-        upper: Upper limits ``(n,)``; None = +inf. Angles may be shifted by ±2π to fit.
-        wrist_type: ``"zyz"``, ``"rpy"`` or ``None`` (4-DOF).
-        **tols: Tolerances passed to :func:`ik_pose` / :func:`ik_pose_4dof`.
-
-    Returns:
-        The solutions, arrays ``(n,)``, in branch order.
-
-    Raises:
-        InvalidInputError: Not a single pose, NaN / infinite entries.
-        NotARotationError: R too far from SO(3).
-        SingularConfigurationError: Degenerate pose (names the degeneracy and what is valid).
-        UnreachablePoseError: No branch within the limits (lists limits, closest branch).
-    """
-    a = np.asarray(T, dtype=np.float64)
-    if a.shape not in ((4, 4), (3, 4)):
-        raise InvalidInputError(f"T must have shape (4, 4) or (3, 4), got {a.shape}")
-    sol = ik_pose(a, wrist_type, **tols)  # type: ignore[arg-type]
-    code = Degeneracy(int(sol.degenerate[0]))
-    if code != Degeneracy.NONE:
-        raise SingularConfigurationError(_singular_message(code, a, sol.q[0, 0], wrist_type))
-    nq = sol.q.shape[-1]
-    lo = np.full(nq, -np.inf) if lower is None else np.asarray(lower, float)
-    up = np.full(nq, np.inf) if upper is None else np.asarray(upper, float)
-    if lo.shape != (nq,) or up.shape != (nq,):
-        raise InvalidInputError(f"limits must have shape ({nq},), got {lo.shape}, {up.shape}")
-    qf, ok = sol.fit_limits(lo, up)
-    if not ok[0].any():
-        viol = _violation(qf[0], lo, up).sum(-1)
-        b = int(np.argmin(viol))
-        raise UnreachablePoseError(
-            f"no IK branch lies within the joint limits lower={np.round(lo, 6).tolist()}, "
-            f"upper={np.round(up, 6).tolist()}; closest branch {b}: "
-            f"q={np.round(qf[0, b], 6).tolist()} (total violation {viol[b]:.3g})"
-        )
-    return [qf[0, b].copy() for b in np.flatnonzero(ok[0])]
-
-
 __all__ = ["AXIS_TOL", "POS_TOL", "SING_TOL", "Degeneracy", "IKSolutions", "ik_pose",
-           "ik_pose_4dof", "ik_position", "solve_pose"]  # fmt: skip
+           "ik_pose_4dof", "ik_position"]  # fmt: skip

@@ -11,8 +11,9 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from rcm_pin.analytic_ik import Degeneracy, ik_pose, ik_pose_4dof, ik_position, solve_pose
+from rcm_pin.analytic_ik import Degeneracy, ik_pose, ik_pose_4dof, ik_position
 from rcm_pin.errors import InvalidInputError, SingularConfigurationError, UnknownMechanismError
+from rcm_pin.ik_solve import solve_pose
 from rcm_pin.mechanism import Mechanism
 
 
@@ -70,8 +71,8 @@ def solve_ik(mech: Mechanism, T: ArrayLike) -> IKResult:
         raise InvalidInputError(f"T has shape {a.shape}; valid: (4, 4) or (3, 4)")
     sol = ik_pose(a, mech.wrist_type) if mech.nq == 6 else ik_pose_4dof(a)
     if int(sol.degenerate[0]) != Degeneracy.NONE:
-        # solve_pose words the degeneracy; call it for its message.
-        solve_pose(a, wrist_type=mech.wrist_type) if mech.nq == 6 else None
+        if mech.nq == 6:
+            solve_pose(a, wrist_type=mech.wrist_type)  # raises, wording the degeneracy
         raise SingularConfigurationError(
             f"pose is singular ({Degeneracy(int(sol.degenerate[0])).name}); "
             "valid poses keep the tool centre off A and the output axis off the base axis"

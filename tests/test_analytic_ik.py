@@ -13,7 +13,6 @@ from rcm_pin.analytic_ik import (
     ik_pose,
     ik_pose_4dof,
     ik_position,
-    solve_pose,
 )
 from rcm_pin.closed_form import WristType, output_axis, output_rotation, tool_pose, tool_position
 from rcm_pin.errors import (
@@ -22,6 +21,7 @@ from rcm_pin.errors import (
     SingularConfigurationError,
     UnreachablePoseError,
 )
+from rcm_pin.ik_solve import solve_pose
 from rcm_pin.rotations import rot_x, rot_y, rot_z
 
 A_B = np.array(
