@@ -22,6 +22,7 @@ import numpy as np
 import pinocchio as pin
 
 from rcm_pin.catalog import MechanismSpec, get_spec
+from rcm_pin.closed_form import WristType
 from rcm_pin.errors import InvalidInputError, UnknownFrameError, XacroArgumentError
 from rcm_pin.render import render_xacro, validate_args
 
@@ -97,11 +98,11 @@ class Mechanism:
         return len(self.coordinate_names)
 
     @property
-    def wrist_type(self) -> str | None:
+    def wrist_type(self) -> WristType:
         """``"zyz"`` or ``"rpy"`` for six-DOF RCM mechanisms, None without a wrist."""
         if self.nq < 6 or self.spec is None or not self.spec.rcm_frame:
             return None
-        return self.args.get("wrist_type", "zyz")
+        return "rpy" if self.args.get("wrist_type", "zyz") == "rpy" else "zyz"
 
     def to_pin(self, q: np.ndarray) -> np.ndarray:
         """Mechanism coordinates -> Pinocchio q (works on (..., n) arrays)."""
@@ -194,7 +195,8 @@ def load(name_or_path: str | Path, **xacro_args: object) -> Mechanism:
     if spec.kind == "closed":
         from rcm_pin.closed_loop import load_closed
 
-        return load_closed(spec.name, **xacro_args)  # type: ignore[no-any-return]
+        # Closed-loop catalogue entries have their own type (rcm_pin.closed_loop).
+        return load_closed(spec.name, **xacro_args)  # type: ignore[no-any-return,return-value]
     for key in spec.fixed_args:
         if key in xacro_args:
             raise XacroArgumentError(

@@ -160,7 +160,7 @@ def render_xacro(path: str | Path, args: Mapping[str, object] | None = None) -> 
         _memory[key] = disk.read_text()
         return _memory[key]
     try:
-        document = xacro.process_file(str(p), mappings=text_args)
+        document = xacro.process_file(str(p), mappings=text_args)  # type: ignore[attr-defined]
     except Exception as exc:  # xacro raises its own XacroException and NameError
         raise XacroArgumentError(f"xacro failed on {p.name} with {text_args}: {exc}") from exc
     urdf = _strip_banner(document.toprettyxml(indent="  "))

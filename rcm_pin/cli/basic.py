@@ -117,10 +117,13 @@ def cmd_ik(args: argparse.Namespace) -> int:
     T = _target(args)
     position_only = bool(args.xyz) and not args.rpy and not args.pose
     solution = solve_ik_position(mech, T[:3, 3]) if position_only else solve_ik(mech, T)
-    branches = [
-        {"q": dict(zip(mech.coordinate_names, q.tolist())), "within_limits": bool(ok)}
+    kept = [
+        (q, bool(ok))
         for q, ok in zip(solution.q, solution.within_limits)
         if ok or not args.within_limits
+    ]
+    branches = [
+        {"q": dict(zip(mech.coordinate_names, q.tolist())), "within_limits": ok} for q, ok in kept
     ]
     payload = {
         "mechanism": mech.name,
@@ -134,10 +137,7 @@ def cmd_ik(args: argparse.Namespace) -> int:
         if position_only
         else [f"rotation projected by {solution.projection_distance:.3g} (Frobenius)"]
     )
-    lines += [
-        f"{'in ' if b['within_limits'] else 'out'} q = {fmt(np.array(list(b['q'].values())), 4)}"
-        for b in branches
-    ]
+    lines += [f"{'in ' if ok else 'out'} q = {fmt(q, 4)}" for q, ok in kept]
     emit(args, payload, "\n".join(lines))
     return 0
 
