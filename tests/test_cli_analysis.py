@@ -1,0 +1,66 @@
+"""``rcm-pin singularities | workspace | accuracy``: JSON output and typed errors."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from rcm_pin.cli import main
+
+
+def _json(capsys, argv):
+    code = main([*argv, "--json"])
+    return code, json.loads(capsys.readouterr().out)
+
+
+def test_singularities_q(capsys):
+    code, out = _json(
+        capsys, ["singularities", "rcm_bevel", "--q", "0.3,1.5707963267948966,0,0,0,0"]
+    )
+    assert code == 0
+    assert out["full"]["rank"] == 3 and out["position"]["rank"] == 1
+    assert [c["name"] for c in out["causes"]] == [
+        "tool_centre_at_A",
+        "output_axis_along_base_axis",
+        "wrist_axes_aligned",
+    ]
+
+
+def test_singularities_grid_png(capsys, tmp_path):
+    png = tmp_path / "g.png"
+    code, out = _json(
+        capsys, ["singularities", "rcm_bevel_4dof", "--grid", "2,3,5", "--wide", "--plot", str(png)]
+    )
+    assert code == 0 and len(out["values"]) == 5 and png.stat().st_size > 1000
+    assert out["min"] < 1e-12  # q3 = 0 and cos q2 = 0 are on the wide grid
+
+
+def test_workspace_and_accuracy(capsys, tmp_path):
+    code, out = _json(capsys, ["workspace", "rcm_bevel", "--samples", "5000"])
+    assert code == 0 and out["spec"]["contains"] is True
+    code, out = _json(capsys, ["accuracy", "rcm_belt"])
+    assert code == 0 and out["rows"][0]["rcm_per_error"] > 0
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["singularities", "rcm_bevel"], "singularities needs exactly one of --q or --grid"),
+        (["singularities", "rcm_bevel", "--q", "0,0,0.1"], "--q has 3 values; valid: exactly 6"),
+        (
+            ["singularities", "rcm_bevel", "--grid", "1"],
+            "--grid '1'; valid: i,j[,N] with integers, e.g. 1,2,41",
+        ),
+        (
+            ["singularities", "rcm_bevel", "--grid", "1,7"],
+            "grid coordinates 1,7; valid: two different numbers in 1..6",
+        ),
+        (["workspace", "rcm_bevel", "--samples", "10"], "--samples 10; valid: >= 1000"),
+        (["accuracy", "rcm_belt", "--q", "0,0"], "--q has 2 values; valid: exactly 6"),
+    ],
+)
+def test_typed_errors(capsys, argv, message):
+    code, out = _json(capsys, argv)
+    assert code == 2
+    assert out["error"]["message"] == message

@@ -1,0 +1,57 @@
+"""Workspace: volume by three routes, convergence, rig-spec verdict."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import rcm_pin
+from rcm_pin import workspace as ws
+from rcm_pin.closed_form import tool_position
+from rcm_pin.errors import InvalidInputError
+
+
+@pytest.fixture(scope="module")
+def mech():
+    return rcm_pin.load("rcm_bevel")
+
+
+def test_volume_routes_converge(mech):
+    exact = ws.volume_analytic(mech)
+    assert np.isclose(exact, (2 * np.pi / 3) * np.sqrt(3) * (0.12**3 - 0.05**3) / 3)
+    v1, _ = ws.volume_monte_carlo(mech, 4000, seed=1)
+    v2, _ = ws.volume_monte_carlo(mech, 16000, seed=2)
+    assert abs(v1 - v2) / v2 < 0.02
+    assert abs(v2 - exact) / exact < 0.02
+    pts = ws.tool_centres(mech, ws.sample_joints(mech, 1_000_000))
+    vox = ws.volume_voxels(pts, 0.002)
+    assert abs(vox - exact) / exact < 0.05
+
+
+def test_sampled_points_match_pinocchio(mech):
+    qs = ws.sample_joints(mech, 200, seed=3)
+    np.testing.assert_allclose(
+        ws.tool_centres(mech, qs), rcm_pin.tool_poses(mech, qs)[:, :3, 3], atol=1e-12
+    )
+    np.testing.assert_allclose(ws.tool_centres(mech, qs), tool_position(qs), atol=0)
+
+
+def test_spec_verdict_and_margins(mech):
+    s = ws.spec_check(mech)
+    assert s.contains and s.fraction_reached == 1.0
+    assert (s.angular_margin, s.inner_margin, s.outer_margin) == (0.0, 0.0, 0.0)
+    assert np.isclose(s.max_half_angle, np.pi / 3, atol=1e-9)
+    small = rcm_pin.load("rcm_bevel", q1_limit=0.9, q3_upper=0.11)
+    s2 = ws.spec_check(small)
+    assert not s2.contains and s2.fraction_reached < 1.0
+    assert np.isclose(s2.angular_margin, 0.9 - np.pi / 3, atol=1e-9)
+    assert np.isclose(s2.outer_margin, -0.01)
+
+
+def test_errors(mech):
+    with pytest.raises(InvalidInputError) as exc:
+        ws.sample_joints(mech, 0)
+    assert str(exc.value) == "sample count 0; valid: >= 1"
+    with pytest.raises(InvalidInputError) as exc:
+        ws.volume_voxels(np.zeros((3, 3)), 0.0)
+    assert str(exc.value) == "voxel edge 0.0; valid: > 0"
