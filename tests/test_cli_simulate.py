@@ -1,0 +1,63 @@
+"""``rcm-pin simulate``."""
+
+from __future__ import annotations
+
+import json
+
+import pytest
+
+from rcm_pin.cli import main
+
+
+def test_simulate_json(capsys, tmp_path):
+    rc = main(
+        [
+            "simulate",
+            "rcm_two_mass",
+            "--arg",
+            "q3_upper=0.3",
+            "--duration",
+            "0.3",
+            "--json",
+            "--plot",
+            str(tmp_path),
+        ]
+    )
+    assert rc == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["status"] == "completed" and out["gains"] == {"Kn": 720.0, "Kc": 12.0}
+    assert len(out["figures"]) == 3 and (tmp_path / "phase_x.png").exists()
+
+
+def test_simulate_text_tau_zeta(capsys):
+    rc = main(
+        [
+            "simulate",
+            "rcm_bevel_4dof",
+            "--trajectory",
+            "rig_circle",
+            "--tau-zeta",
+            "0.05,1",
+            "--duration",
+            "0.2",
+            "--no-gravity",
+        ]
+    )
+    assert rc == 0
+    out = capsys.readouterr().out
+    assert "rcm_bevel_4dof: completed after 0.200 s (Kn = 400, Kc = 40, task space)" in out
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["--gains", "720"], "--gains has 1 values; valid: exactly 2"),
+        (["--tau-zeta=-1,1"], "tau=-1.0, zeta=1.0 are invalid; valid: tau > 0 [s], zeta >= 0"),
+        (["--duration", "-1"], "--duration -1.0 is invalid; valid: > 0 [s]"),
+    ],
+)
+def test_simulate_errors(capsys, argv, message):
+    rc = main(["simulate", "rcm_two_mass", "--json", *argv])
+    assert rc == 2
+    err = json.loads(capsys.readouterr().out)["error"]
+    assert err["type"] == "InvalidInputError" and err["message"] == message
