@@ -55,8 +55,20 @@ class MechanismSpec:
 
 _RCM_COORDS = ("pair4", "pair7", "pair24", "pair23", "pair26", "pair27")
 _RCM_POSITIVE = (
-    "l9", "a7_x", "z13", "z14", "z16", "z17", "z18", "z19", "z21", "z22",
-    "d1", "d2", "d3", "d4",
+    "l9",
+    "a7_x",
+    "z13",
+    "z14",
+    "z16",
+    "z17",
+    "z18",
+    "z19",
+    "z21",
+    "z22",
+    "d1",
+    "d2",
+    "d3",
+    "d4",
 )
 
 _SPECS: tuple[MechanismSpec, ...] = (
