@@ -49,6 +49,10 @@ class SingularConfigurationError(RcmPinError, ValueError):
     """A singular (degenerate) configuration where a regular one is required."""
 
 
+class SnapshotError(RcmPinError, RuntimeError):
+    """Headless Chromium is missing or failed to write a screenshot."""
+
+
 class SolverError(RcmPinError, RuntimeError):
     """A numerical solver that failed to converge or reported infeasibility."""
 
@@ -59,6 +63,7 @@ __all__ = [
     "NotARotationError",
     "RcmPinError",
     "SingularConfigurationError",
+    "SnapshotError",
     "SolverError",
     "UnknownFrameError",
     "UnknownMechanismError",

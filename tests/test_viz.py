@@ -1,0 +1,225 @@
+"""Meshcat visualisation without a browser: geometry placement, scene, export, CLI."""
+
+from __future__ import annotations
+
+import base64
+import json
+import re
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+import pytest
+import umsgpack
+from conftest import EXACT, random_q
+
+import rcm_pin
+from rcm_pin.cli import main
+from rcm_pin.errors import InvalidInputError, SnapshotError, UnknownFrameError
+from rcm_pin.viz import Viewer
+from rcm_pin.viz_camera import frame_points, project
+from rcm_pin.viz_scene import SceneRecorder, colormap, hex_color
+from rcm_pin.viz_snapshot import frames_png, screenshot_html, snapshot
+
+DATA = Path(__file__).parent / "data"
+
+
+def _commands(html: str) -> list[dict]:
+    """Decode the msgpack commands embedded in a static Meshcat page."""
+    blobs = re.findall(r"data:application/octet-binary;base64,([A-Za-z0-9+/=]+)", html)
+    return [umsgpack.unpackb(base64.b64decode(b)) for b in blobs]
+
+
+def test_mimic_visuals_match_no_mimic_model(rcm_mech):
+    """Visual geometry built on the mimic model sits where the no-mimic model puts it."""
+    visual = pin.buildGeomFromUrdfString(rcm_mech.model, rcm_mech.urdf, pin.GeometryType.VISUAL)
+    full = pin.buildGeomFromUrdfString(rcm_mech.model_full, rcm_mech.urdf, pin.GeometryType.VISUAL)
+    assert visual.ngeoms == full.ngeoms > 10
+    data, gdata = rcm_mech.model.createData(), visual.createData()
+    fdata, gfdata = rcm_mech.model_full.createData(), full.createData()
+    rng = np.random.default_rng(6)
+    moved = 0.0
+    for q in random_q(rcm_mech, 5, rng):
+        q_pin = rcm_mech.to_pin(q)
+        pin.forwardKinematics(rcm_mech.model, data, q_pin)
+        pin.updateGeometryPlacements(rcm_mech.model, data, visual, gdata)
+        pin.forwardKinematics(rcm_mech.model_full, fdata, rcm_mech.coupling.q_full(q_pin))
+        pin.updateGeometryPlacements(rcm_mech.model_full, fdata, full, gfdata)
+        for i, obj in enumerate(visual.geometryObjects):
+            j = full.getGeometryId(obj.name)
+            M, Mf = gdata.oMg[i].homogeneous, gfdata.oMg[j].homogeneous
+            assert np.abs(M - Mf).max() < EXACT, obj.name
+            moved = max(moved, np.abs(M - visual.geometryObjects[i].placement.homogeneous).max())
+    assert moved > 0.01  # the configurations really move the bodies
+
+
+def test_viewer_places_every_geometry_node(rcm_mech):
+    viewer = Viewer(rcm_mech)
+    q = random_q(rcm_mech, 1, np.random.default_rng(1))[0]
+    viewer.display(q)
+    assert viewer.url is None and isinstance(viewer.vis.window, SceneRecorder)
+    tree = viewer.vis.window.tree["meshcat"]["pinocchio"]["visuals"]
+    for name, T in viewer.placements(q).items():
+        node = tree[name.split("/")[-1]]
+        assert node.object is not None
+        sent = np.array(umsgpack.unpackb(node.transform)["matrix"]).reshape(4, 4).T
+        assert np.allclose(sent, T, atol=1e-6), name
+
+
+def test_tool_axis_passes_through_rcm_and_tool(rcm_mech):
+    viewer = Viewer(rcm_mech)
+    viewer.show_rcm()
+    viewer.show_tool_axis()
+    q = random_q(rcm_mech, 1, np.random.default_rng(2))[0]
+    viewer.display(q)
+    node = viewer.vis.window.tree["meshcat"]["overlays"]["tool_axis"]
+    T = np.array(umsgpack.unpackb(node.transform)["matrix"]).reshape(4, 4).T
+    axis, centre = T[:3, 1], T[:3, 3]  # Meshcat cylinders lie along their y axis
+    tool = rcm_pin.tool_pose(rcm_mech, q)[:3, 3]
+    for point in (np.zeros(3), tool):  # A and the tool centre on the rod's line
+        d = point - centre
+        assert np.linalg.norm(d - (d @ axis) * axis) < 1e-9
+
+
+def test_points_animation_and_static_html():
+    mech = rcm_pin.load("rcm_bevel")
+    viewer = Viewer(mech, snapshot_style=True)
+    qs = random_q(mech, 50, np.random.default_rng(3))
+    values = np.linspace(0.0, 1.0, 50)
+    points = viewer.show_tool_positions("workspace", qs, values, size=0.003)
+    assert points.shape == (50, 3)
+    traj = np.linspace(mech.lower * 0.5, mech.upper * 0.5, 12)
+    anim = viewer.animate(traj, dt=0.1)
+    assert len(anim.clips) == len(viewer.placements(traj[0]))
+    html = viewer.static_html(controls=False)
+    assert "MeshCat.Viewer" in html and ".dg {display: none" in html
+    commands = _commands(html)
+    kinds = {c["type"] for c in commands}
+    assert kinds == {"set_object", "set_transform", "set_property", "set_animation"}
+    cloud = next(c for c in commands if c["path"].endswith("overlays/workspace"))
+    assert cloud["object"]["object"]["type"] == "Points"
+    (animation,) = [c for c in commands if c["type"] == "set_animation"]
+    tracks = animation["animations"][0]["clip"]["tracks"]
+    assert len(tracks[0]["keys"]) == 12 and animation["animations"][0]["clip"]["fps"] == 10
+    camera = [c for c in commands if c["path"] == "/Cameras/default/rotated/<object>"]
+    assert {c["property"] for c in camera} == {"fov", "position"}
+
+
+def test_live_server_writes_the_same_page(tmp_path):
+    """A real meshcat-server on 127.0.0.1 and the in-memory recorder agree."""
+    mech = rcm_pin.load("rcm_bevel_4dof")
+    q = np.array([0.2, -0.3, 0.08, 0.4])
+    pages = []
+    for server in (True, False):
+        with Viewer(mech, server=server) as viewer:
+            viewer.show_rcm()
+            viewer.show_tool_axis()
+            viewer.display(q)
+            if server:
+                assert viewer.url is not None and viewer.url.startswith("http://127.0.0.1:")
+            pages.append(viewer.static_html())
+            if server:
+                proc = viewer.vis.window.server_proc
+        if server:
+            assert proc.poll() is not None  # close() stopped the server
+    live, offline = (_commands(p) for p in pages)
+    strip = [{k: v for k, v in c.items() if k != "object"} for c in live]
+    assert strip == [{k: v for k, v in c.items() if k != "object"} for c in offline]
+    assert len(pages[0]) == len(pages[1])
+
+
+def test_camera_projection_and_framing():
+    eye, target = frame_points(np.array([[0.0, 0, 0], [1.0, 1, 1]]))
+    assert np.allclose(target, 0.5)
+    px = project(eye, target, target)
+    assert np.allclose(px, [[400, 300]])
+    viewer = Viewer(rcm_pin.load("rcm_bevel"))
+    corners = np.array([T[:3, 3] for T in viewer.placements(viewer.q).values()])
+    pix = viewer.project(corners)
+    assert np.all((pix > 0) & (pix < [800, 600]))
+
+
+def test_colours():
+    rgb = colormap(np.array([0.0, np.nan, 2.0]), "viridis")
+    assert rgb.shape == (3, 3) and np.allclose(rgb[1], 0.5)
+    assert hex_color((1.0, 0.5, 0.0)) == 0xFF8000 and hex_color(0x123456) == 0x123456
+
+
+def test_errors_have_exact_messages():
+    mech = rcm_pin.load("rcm_bevel")
+    with pytest.raises(InvalidInputError) as exc:
+        Viewer(mech, zmq_url="tcp://10.0.0.1:6000")
+    assert str(exc.value) == "zmq_url 'tcp://10.0.0.1:6000' is not on this machine; " + (
+        "valid: tcp://127.0.0.1:PORT"
+    )
+    viewer = Viewer(mech)
+    with pytest.raises(InvalidInputError) as exc:
+        viewer.show_points("p", np.zeros((4, 2)))
+    assert str(exc.value) == "points have shape (4, 2); valid: (N, 3) finite values"
+    with pytest.raises(InvalidInputError) as exc:
+        viewer.show_points("p", np.zeros((4, 3)), values=np.zeros(3))
+    assert str(exc.value) == "values have shape (3,); valid: (4,)"
+    with pytest.raises(InvalidInputError) as exc:
+        viewer.animate(np.zeros((3, 4)))
+    assert str(exc.value) == "trajectory has shape (3, 4); valid: (N, 6) finite values"
+    with pytest.raises(InvalidInputError) as exc:
+        viewer.animate(np.zeros((3, 6)), dt=0.0)
+    assert str(exc.value) == "dt = 0.0; valid: a positive time step [s]"
+    plain = Viewer(rcm_pin.load(DATA / "mimic_tree.urdf"))
+    with pytest.raises(InvalidInputError) as exc:
+        plain.show_rcm()
+    assert str(exc.value) == "mimic_tree has no RCM frame; valid: rcm_* mechanisms"
+    with pytest.raises(InvalidInputError) as exc:
+        plain.show_tool_axis()
+    assert str(exc.value) == "mimic_tree has no output_link frame"
+    with pytest.raises(UnknownFrameError):
+        mech.frame_id("nope")
+
+
+def test_snapshot_fallback_and_missing_chromium(tmp_path, monkeypatch):
+    mech = rcm_pin.load("rcm_belt")
+    q = np.array([0.3, 0.2, 0.08, 0.0, 0.0, 0.0])
+    assert snapshot(mech, q, tmp_path / "f.png", browser=False) == "matplotlib"
+    assert (tmp_path / "f.png").stat().st_size > 10_000
+    frames_png(mech, q, tmp_path / "g.png", title="belt")
+    monkeypatch.setenv("RCM_PIN_CHROMIUM", "no-such-browser-rcm-pin")
+    with pytest.raises(SnapshotError) as exc:
+        screenshot_html(tmp_path / "x.html", tmp_path / "x.png")
+    assert str(exc.value) == "no Chromium found; valid: install chromium or set RCM_PIN_CHROMIUM"
+    assert snapshot(mech, q, tmp_path / "h.png") == "matplotlib"
+
+
+def test_cli_view_html_json_and_errors(tmp_path, capsys, monkeypatch):
+    monkeypatch.setenv("RCM_PIN_CHROMIUM", "no-such-browser-rcm-pin")
+    traj = tmp_path / "traj.csv"
+    np.savetxt(traj, np.linspace([0, 0, 0.06, 0], [0.4, -0.4, 0.1, 1.0], 5), delimiter=",")
+    html, png = tmp_path / "v.html", tmp_path / "v.png"
+    argv = ["view", "rcm_bevel_4dof", "--q", "0.1,0.2,0.08,0", "--traj", str(traj)]
+    assert main([*argv, "--html", str(html), "--png", str(png), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["html"] == str(html) and out["png_method"] == "matplotlib"
+    assert "set_animation" in str(_commands(html.read_text()))
+    assert main(["view", "rcm_bevel", "--q", "0.1,0.2", "--html", str(html), "--json"]) == 2
+    err = json.loads(capsys.readouterr().out)["error"]
+    assert err == {"type": "InvalidInputError", "message": "--q has 2 values; valid: exactly 6"}
+    bad = tmp_path / "bad.csv"
+    np.savetxt(bad, np.zeros((3, 2)), delimiter=",")
+    assert main(["view", "rcm_bevel", "--traj", str(bad), "--html", str(html), "--json"]) == 2
+    err = json.loads(capsys.readouterr().out)["error"]
+    assert err["message"] == "--traj has shape (3, 2); valid: (N, 6) rows of q"
+
+
+def test_cli_view_live_server(capsys):
+    assert main(["view", "rcm_belt", "--seconds", "0", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["url"].startswith("http://127.0.0.1:") and out["html"] is None
+
+
+def test_report_section_fallback(tmp_path, monkeypatch):
+    from rcm_pin.report.scenes import SCENES, section
+
+    monkeypatch.setenv("RCM_PIN_CHROMIUM", "no-such-browser-rcm-pin")
+    result = section(tmp_path)
+    assert result.title == "Scenes" and len(result.figures) == len(SCENES)
+    assert all((tmp_path / f).stat().st_size > 10_000 for f in result.figures)
+    assert result.body.count("matplotlib line drawing of the joint frames") == len(SCENES)
