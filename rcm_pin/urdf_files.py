@@ -15,19 +15,26 @@ def render_default(name: str, args: dict[str, str] | None = None) -> str:
 
 
 def write_rendered() -> list[Path]:
-    """Re-render every shipped mechanism's default URDF into ``urdf/``."""
+    """Re-render every shipped mechanism's default URDF (and loop sidecar) into ``urdf/``."""
+    from rcm_pin.closed_loop import write_rendered as write_closed
+
     written = []
     for spec in mechanisms():
-        spec.urdf_path.write_text(render_default(spec.name))
-        written.append(spec.urdf_path)
-    return written
+        if spec.kind == "serial":
+            spec.urdf_path.write_text(render_default(spec.name))
+            written.append(spec.urdf_path)
+    return written + write_closed()
 
 
 def check_rendered() -> list[str]:
-    """Names whose committed ``urdf/<name>.urdf`` differs from a fresh render."""
+    """Files in ``urdf/`` that differ from a fresh render (URDFs and loop sidecars)."""
+    from rcm_pin.closed_loop import check_rendered as check_closed
+
     stale = []
     for spec in mechanisms():
         path = spec.urdf_path
-        if not path.exists() or path.read_text() != render_default(spec.name):
-            stale.append(spec.name)
-    return stale
+        if spec.kind == "serial" and (
+            not path.exists() or path.read_text() != render_default(spec.name)
+        ):
+            stale.append(path.name)
+    return stale + check_closed()

@@ -44,8 +44,8 @@ def test_ik_json_prints_the_paper_example(capsys):
 
 
 def test_ik_xyz_rpy(capsys):
-    code, out, _ = run(capsys, "ik", "rcm_bevel", "--xyz", "0.02,-0.03,0.09", "--rpy", "0.1,0.2,0.3",
-                       "--within-limits", "--json")  # fmt: skip
+    argv = ["ik", "rcm_bevel", "--xyz", "0.02,-0.03,0.09", "--rpy", "0.1,0.2,0.3"]
+    code, out, _ = run(capsys, *argv, "--within-limits", "--json")
     payload = json.loads(out)
     assert (
         code == 0 and payload["branches"] and all(b["within_limits"] for b in payload["branches"])
@@ -63,7 +63,7 @@ def test_urdf_check_and_render(capsys, tmp_path):
     ("argv", "kind", "message"),
     [
         (["fk", "nope", "--q", "0"], "UnknownMechanismError", "unknown mechanism 'nope'; valid:"),
-        (["fk", "rcm_bevel", "--q", "0,1"], "InvalidInputError", "--q has 2 values; valid: exactly 6"),
+        (["fk", "rcm_bevel", "--q", "0,1"], "InvalidInputError", "--q has 2 values; valid:"),
         (["fk", "rcm_bevel", "--q", "0,a"], "InvalidInputError", "is not a comma-separated list"),
         (["urdf", "rcm_bevel", "--arg", "l9"], "XacroArgumentError", "--arg 'l9' is not key=value"),
         (["ik", "rcm_bevel", "--pose", "1,0,0,0;0,1,0,0;0,0,1,0"], "SingularConfigurationError",
@@ -80,3 +80,31 @@ def test_errors_are_typed_json(capsys, argv, kind, message):
 def test_error_without_json_goes_to_stderr(capsys):
     code, out, err = run(capsys, "fk", "nope", "--q", "0")
     assert code == 2 and out == "" and "UnknownMechanismError: unknown mechanism 'nope'" in err
+
+
+def test_closed_mechanisms_are_listed(capsys):
+    code, out, _ = run(capsys, "list", "--json")
+    kinds = {m["name"]: m["kind"] for m in json.loads(out)["mechanisms"]}
+    assert kinds["planar_3rrr"] == "closed" and kinds["five_bar"] == "closed"
+
+
+def test_closed_fk_all_modes_and_ik_round_trip(capsys):
+    code, out, _ = run(capsys, "ik", "planar_3rrr", "--pose", "0.0,0.05,0.1", "--json")
+    inverse = json.loads(out)
+    assert code == 0 and inverse["count"] == 8
+    drives_idx = [inverse["joint_names"].index(j) for j in ("A1", "A2", "A3")]
+    q_drives = np.array(inverse["solutions"][0]["q"])[drives_idx]
+    q_text = "--q=" + ",".join(map(str, q_drives))  # "--q=" because values may start with "-"
+    code, out, _ = run(capsys, "fk", "planar_3rrr", q_text, "--all", "--json")
+    direct = json.loads(out)
+    poses = np.array([s["pose"] for s in direct["solutions"]])
+    assert code == 0 and direct["count"] >= 2
+    assert np.min(np.abs(poses - [0.0, 0.05, 0.1]).max(axis=1)) < 1e-10
+    assert max(s["residual"] for s in direct["solutions"]) < 1e-12
+
+
+def test_closed_ik_needs_pose(capsys):
+    code, out, _ = run(capsys, "ik", "planar_3rrr", "--xyz", "0,0,0", "--json")
+    assert (
+        code == 2 and "closed mechanisms take --pose x,y,phi" in json.loads(out)["error"]["message"]
+    )

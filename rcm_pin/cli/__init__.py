@@ -51,6 +51,9 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = parser.parse_args(argv)
     try:
         return int(args.func(args) or 0)
+    except BrokenPipeError:  # e.g. `rcm-pin ... | head`: the reader left, not an error
+        sys.stderr.close()
+        return 0
     except RcmPinError as exc:
         if getattr(args, "json", False):
             error = {"type": type(exc).__name__, "message": str(exc)}

@@ -78,16 +78,17 @@ def cmd_urdf(args: argparse.Namespace) -> int:
 
 
 def cmd_fk(args: argparse.Namespace) -> int:
-    mech = load(args.name, **parse_xacro_args(args.arg))
     if get_spec(args.name).kind == "closed":
-        from rcm_pin.closed_loop import direct_position
+        from rcm_pin.closed_loop import direct_position, load_closed
 
-        result = direct_position(mech, parse_vector(args.q, "q"), all_modes=args.all)
+        closed = load_closed(args.name, **parse_xacro_args(args.arg))
+        result = direct_position(closed, parse_vector(args.q, "q"), all_modes=args.all)
         payload = result.to_json()
-        emit(args, payload, str(payload))
+        emit(args, payload, _closed_text(payload))
         return 0
     from rcm_pin.kinematics import rcm_error, tool_pose
 
+    mech = load(args.name, **parse_xacro_args(args.arg))
     q = parse_vector(args.q, "q", mech.nq)
     T = tool_pose(mech, q)
     payload = {
@@ -103,17 +104,18 @@ def cmd_fk(args: argparse.Namespace) -> int:
 
 
 def cmd_ik(args: argparse.Namespace) -> int:
-    mech = load(args.name, **parse_xacro_args(args.arg))
     if get_spec(args.name).kind == "closed":
-        from rcm_pin.closed_loop import inverse_position
+        from rcm_pin.closed_loop import inverse_position, load_closed
 
         if not args.pose:
-            raise InvalidInputError("closed mechanisms take --pose x,y,phi")
-        payload = inverse_position(mech, parse_vector(args.pose, "pose")).to_json()
-        emit(args, payload, str(payload))
+            raise InvalidInputError("closed mechanisms take --pose x,y,phi (five_bar: x,y)")
+        closed = load_closed(args.name, **parse_xacro_args(args.arg))
+        payload = inverse_position(closed, parse_vector(args.pose, "pose")).to_json()
+        emit(args, payload, _closed_text(payload))
         return 0
     from rcm_pin.inverse import solve_ik, solve_ik_position
 
+    mech = load(args.name, **parse_xacro_args(args.arg))
     T = _target(args)
     position_only = bool(args.xyz) and not args.rpy and not args.pose
     solution = solve_ik_position(mech, T[:3, 3]) if position_only else solve_ik(mech, T)
@@ -140,6 +142,19 @@ def cmd_ik(args: argparse.Namespace) -> int:
     lines += [f"{'in ' if ok else 'out'} q = {fmt(q, 4)}" for q, ok in kept]
     emit(args, payload, "\n".join(lines))
     return 0
+
+
+def _closed_text(payload: dict) -> str:
+    """Human-readable lines for a closed-loop position result."""
+    head = f"{payload['mechanism']}: {payload['kind']} position problem"
+    lines = [
+        f"{head}, {payload['count']} solution(s) ({payload['method']})",
+        f"joints: {', '.join(payload['joint_names'])}",
+    ]
+    for sol in payload["solutions"]:
+        pose, q = fmt(np.array(sol["pose"])), fmt(np.array(sol["q"]), 4)
+        lines.append(f"mode {sol['mode']}: pose = {pose}  q = {q}  residual {sol['residual']:.1e}")
+    return "\n".join(lines)
 
 
 def _target(args: argparse.Namespace) -> np.ndarray:

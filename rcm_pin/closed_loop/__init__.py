@@ -17,13 +17,29 @@ from rcm_pin.closed_loop.loader import (
     load_closed,
     write_rendered,
 )
+from rcm_pin.closed_loop.position import (
+    PositionResult,
+    PositionSolution,
+    direct_position,
+    direct_position_multistart,
+    direct_position_path,
+    inverse_position,
+)
+from rcm_pin.closed_loop.report import report_section
 
 __all__ = [
     "CLOSED_MECHANISMS",
     "ClosedMechanism",
     "Closure",
+    "PositionResult",
+    "PositionSolution",
     "check_rendered",
+    "direct_position",
+    "direct_position_multistart",
+    "direct_position_path",
     "from_urdf_and_sidecar",
+    "inverse_position",
     "load_closed",
+    "report_section",
     "write_rendered",
 ]

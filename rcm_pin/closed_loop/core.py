@@ -36,8 +36,12 @@ from rcm_pin.errors import InvalidInputError, SolverError, UnknownFrameError
 
 #: Newton stops when the closure residual norm is below this [m].
 RESIDUAL_TOL = 1e-13
-_ROWS = {("3d", False): (0, 1, 2), ("3d", True): (0, 1), ("6d", False): tuple(range(6)),
-         ("6d", True): (0, 1, 5)}
+_ROWS = {
+    ("3d", False): (0, 1, 2),
+    ("3d", True): (0, 1),
+    ("6d", False): tuple(range(6)),
+    ("6d", True): (0, 1, 5),
+}
 _COORD_ROWS = {"x": 0, "y": 1, "z": 2, "rx": 3, "ry": 4, "rz": 5}
 
 
@@ -101,6 +105,8 @@ class ClosedMechanism:
     output_frame_id: int = field(init=False, repr=False)
     rows: np.ndarray = field(init=False, repr=False)
     out_rows: np.ndarray = field(init=False, repr=False)
+    _frame_ids: tuple[tuple[int, int], ...] = field(init=False, repr=False)
+    _all_3d: bool = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "idx_driven", self.joint_indices(self.driven))
@@ -109,6 +115,9 @@ class ClosedMechanism:
         offsets = np.cumsum([0] + [c.constraint.residualSize() for c in self.closures])
         rows = [offsets[i] + r for i, c in enumerate(self.closures) for r in c.rows]
         object.__setattr__(self, "rows", np.array(rows, dtype=int))
+        ids = tuple((self.frame_id(c.frame_a), self.frame_id(c.frame_b)) for c in self.closures)
+        object.__setattr__(self, "_frame_ids", ids)
+        object.__setattr__(self, "_all_3d", all(c.kind == "3d" for c in self.closures))
         object.__setattr__(self, "out_rows", np.array([_COORD_ROWS[c] for c in self.output_coords]))
         if self.n_constraints + self.dof != self.model.nv:
             raise InvalidInputError(
@@ -190,7 +199,29 @@ class ClosedMechanism:
         return np.concatenate(out)
 
     def residual_and_jacobian(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Closure residual e (m,) and Pinocchio constraint Jacobian rows (m, n)."""
+        """Closure residual e (m,) and constraint Jacobian rows (m, n) [m, m/rad].
+
+        Fast path for 3d closures: e = R_aᵀ(p_a − p_b), J = R_aᵀ(J_a − J_b) from Pinocchio
+        frame Jacobians (LOCAL_WORLD_ALIGNED, linear rows). This equals Pinocchio's constraint
+        Jacobian wherever e = 0 (tested); 6d closures use :meth:`residual_and_jacobian_pin`.
+        """
+        if not self._all_3d:
+            return self.residual_and_jacobian_pin(q)
+        model, data = self.model, self.data
+        pin.computeJointJacobians(model, data, q)
+        es, js = [], []
+        for c, (fa, fb) in zip(self.closures, self._frame_ids, strict=True):
+            oMa = pin.updateFramePlacement(model, data, fa)
+            oMb = pin.updateFramePlacement(model, data, fb)
+            ja = pin.getFrameJacobian(model, data, fa, pin.LOCAL_WORLD_ALIGNED)
+            jb = pin.getFrameJacobian(model, data, fb, pin.LOCAL_WORLD_ALIGNED)
+            rt = oMa.rotation.T[list(c.rows)]
+            es.append(rt @ (oMa.translation - oMb.translation))
+            js.append(rt @ (ja[:3] - jb[:3]))
+        return np.concatenate(es), np.vstack(js)
+
+    def residual_and_jacobian_pin(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Residual and ``pin.getConstraintsJacobian`` rows of the RigidConstraintModels."""
         pin.computeJointJacobians(self.model, self.data, q)
         for cm, cd in zip(self.constraint_models, self.constraint_datas, strict=True):
             cm.calc(self.model, self.data, cd)

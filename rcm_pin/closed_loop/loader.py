@@ -62,8 +62,9 @@ def load_closed(name: str, **xacro_args: object) -> ClosedMechanism:
     from rcm_pin.errors import XacroArgumentError
 
     for key, value in xacro_args.items():
-        if key.startswith(("proximal", "distal", "base_radius", "platform_radius",
-                           "base_distance")):
+        if key.startswith(
+            ("proximal", "distal", "base_radius", "platform_radius", "base_distance")
+        ):
             try:
                 ok = float(value) > 0.0  # type: ignore[arg-type]
             except (TypeError, ValueError):
@@ -76,8 +77,9 @@ def load_closed(name: str, **xacro_args: object) -> ClosedMechanism:
     return build(name, urdf, spec_from_urdf(urdf))
 
 
-def from_urdf_and_sidecar(urdf_path: str | Path, yaml_path: str | Path | None = None,
-                          name: str | None = None) -> ClosedMechanism:
+def from_urdf_and_sidecar(
+    urdf_path: str | Path, yaml_path: str | Path | None = None, name: str | None = None
+) -> ClosedMechanism:
     """Load a cut-open URDF and its LAAS YAML sidecar (default: same stem, ``.yaml``)."""
     urdf_path = Path(urdf_path)
     yaml_path = Path(yaml_path) if yaml_path else urdf_path.with_suffix(".yaml")
@@ -120,8 +122,13 @@ def build(name: str, urdf: str, spec: LoopSpec) -> ClosedMechanism:
             frames.append(model.frames[model.getFrameId(fname)])
         ctype = pin.ContactType.CONTACT_3D if kind == "3d" else pin.ContactType.CONTACT_6D
         cm = pin.RigidConstraintModel(
-            ctype, model, frames[0].parentJoint, frames[0].placement,
-            frames[1].parentJoint, frames[1].placement, pin.ReferenceFrame.LOCAL,
+            ctype,
+            model,
+            frames[0].parentJoint,
+            frames[0].placement,
+            frames[1].parentJoint,
+            frames[1].placement,
+            pin.ReferenceFrame.LOCAL,
         )
         cm.name = f"{fa}__{fb}"
         cmodels.append(cm)
