@@ -8,7 +8,6 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -261,72 +260,3 @@ def _result(plant, controller, t, q, v, status, wall, nfev, effort) -> Simulatio
         wall_time=wall,
         nfev=nfev,
     )
-
-
-def plot_deviation(
-    result: SimulationResult,
-    path: Path,
-    axis: int = 0,
-    prediction: np.ndarray | None = None,
-    title: str = "",
-) -> Path:
-    """Deviation e_axis(t) = p_ref − p (paper 000 Fig. 4a), optional linear prediction."""
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(6.4, 3.6))
-    ax.plot(result.t, 1e3 * result.error[:, axis], label="simulated (Pinocchio)")
-    if prediction is not None:
-        ax.plot(result.t, 1e3 * prediction, "--", label="linear error dynamics")
-    ax.set_xlabel("t [s]")
-    ax.set_ylabel(f"Dev {'xyz'[axis]} = {'xyz'[axis]}_t − {'xyz'[axis]} [mm]")
-    ax.set_title(title or f"{result.mechanism}: deviation along {'xyz'[axis]}")
-    ax.grid(True, alpha=0.3)
-    ax.legend()
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
-
-
-def plot_phase(result: SimulationResult, path: Path, axis: int = 0, title: str = "") -> Path:
-    """Phase trajectory (p_axis, ṗ_axis) with the desired one (paper 000 Fig. 4b)."""
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(5.0, 4.2))
-    ax.plot(result.p[:, axis], result.v_tool[:, axis], label="simulated")
-    ax.plot(result.p_ref[:, axis], result.v_ref[:, axis], "--", label="desired")
-    ax.plot(result.p[0, axis], result.v_tool[0, axis], "o", label="start")
-    c = "xyz"[axis]
-    ax.set_xlabel(f"{c} [m]")
-    ax.set_ylabel(f"d{c}/dt [m/s]")
-    ax.set_title(title or f"{result.mechanism}: phase trajectory along {c}")
-    ax.grid(True, alpha=0.3)
-    ax.legend()
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
-
-
-def plot_efforts(result: SimulationResult, path: Path, title: str = "") -> Path:
-    """Drive efforts τ_i(t) (q3 in N on the right axis)."""
-    import matplotlib.pyplot as plt
-
-    fig, ax = plt.subplots(figsize=(6.4, 3.6))
-    for i in range(result.tau.shape[1]):
-        if i != 2:
-            ax.plot(result.t, result.tau[:, i], label=f"τ{i + 1} [N·m]")
-    ax.set_xlabel("t [s]")
-    ax.set_ylabel("torque [N·m]")
-    ax2 = ax.twinx()
-    ax2.plot(result.t, result.tau[:, 2], "k", lw=1.0, label="F3 [N]")
-    ax2.set_ylabel("force F3 [N]")
-    lines = ax.get_legend_handles_labels()
-    lines2 = ax2.get_legend_handles_labels()
-    ax.legend(lines[0] + lines2[0], lines[1] + lines2[1], fontsize=8, loc="upper right")
-    ax.set_title(title or f"{result.mechanism}: drive efforts")
-    ax.grid(True, alpha=0.3)
-    fig.tight_layout()
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path

@@ -30,3 +30,19 @@ def random_q(mech, n, rng, margin=0.0):
     """n random configurations within the joint limits (shrunk by ``margin``)."""
     lo, hi = mech.lower + margin, mech.upper - margin
     return rng.uniform(lo, hi, size=(n, mech.nq))
+
+
+@pytest.fixture(scope="session")
+def m3():
+    """The planar 3-RRR closed mechanism with default arguments."""
+    from rcm_pin.closed_loop import load_closed
+
+    return load_closed("planar_3rrr")
+
+
+@pytest.fixture(scope="session")
+def m5():
+    """The five-bar closed mechanism with default arguments."""
+    from rcm_pin.closed_loop import load_closed
+
+    return load_closed("five_bar")

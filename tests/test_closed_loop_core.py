@@ -19,16 +19,6 @@ from rcm_pin.errors import (
 from rcm_pin.render import URDF_DIR
 
 
-@pytest.fixture(scope="module")
-def m3():
-    return load_closed("planar_3rrr")
-
-
-@pytest.fixture(scope="module")
-def m5():
-    return load_closed("five_bar")
-
-
 def test_committed_urdf_and_sidecar_are_fresh():
     assert check_rendered() == []
 

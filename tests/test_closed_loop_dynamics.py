@@ -16,11 +16,6 @@ from rcm_pin.closed_loop.switching import StudySettings, simulate, torque_along_
 from rcm_pin.closed_loop.velocity import passive_velocity
 
 
-@pytest.fixture(scope="module")
-def m5():
-    return load_closed("five_bar")
-
-
 @pytest.mark.parametrize(
     "name,pose", [("planar_3rrr", [0.02, -0.01, 0.2]), ("five_bar", [0.02, 0.2])]
 )

@@ -6,7 +6,6 @@ import numpy as np
 import pytest
 
 from rcm_pin.closed_loop import five_bar as fb
-from rcm_pin.closed_loop import load_closed
 from rcm_pin.closed_loop import planar_3rrr as p3
 from rcm_pin.closed_loop.batch import PlanarTree, batch_solve_passive
 from rcm_pin.closed_loop.position import (
@@ -18,16 +17,6 @@ from rcm_pin.closed_loop.position import (
 from rcm_pin.closed_loop.report import random_poses
 
 TOL = 1e-12
-
-
-@pytest.fixture(scope="module")
-def m3():
-    return load_closed("planar_3rrr")
-
-
-@pytest.fixture(scope="module")
-def m5():
-    return load_closed("five_bar")
 
 
 @pytest.fixture(scope="module")

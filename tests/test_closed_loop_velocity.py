@@ -16,11 +16,6 @@ from rcm_pin.errors import SingularConfigurationError
 
 
 @pytest.fixture(scope="module")
-def m3():
-    return load_closed("planar_3rrr")
-
-
-@pytest.fixture(scope="module")
 def g3(m3):
     return p3.Geometry3RRR.from_params(m3.params)
 

@@ -9,7 +9,8 @@ import rcm_pin
 from rcm_pin.control import ComputedTorque, Gains, drive_limits, linear_error
 from rcm_pin.dynamics import with_gravity
 from rcm_pin.errors import InvalidInputError, SingularConfigurationError
-from rcm_pin.simulation import plot_deviation, plot_efforts, plot_phase, simulate
+from rcm_pin.simulation import simulate
+from rcm_pin.simulation_plots import plot_deviation, plot_efforts, plot_phase
 from rcm_pin.trajectories import (
     TRAJECTORIES,
     get_trajectory,

@@ -14,7 +14,8 @@ from rcm_pin.control import ComputedTorque, Gains, drive_limits, linear_error
 from rcm_pin.dynamics import inverse_dynamics, with_gravity
 from rcm_pin.mechanism import load
 from rcm_pin.report import Comparison, Section, comparison_table
-from rcm_pin.simulation import SimulationResult, plot_deviation, plot_efforts, plot_phase, simulate
+from rcm_pin.simulation import SimulationResult, simulate
+from rcm_pin.simulation_plots import plot_deviation, plot_efforts, plot_phase
 from rcm_pin.trajectories import TRAJECTORIES, joint_reference
 from rcm_pin.two_mass import load_two_mass
 
