@@ -37,6 +37,7 @@ def kernel_dirs(tmp_path_factory):
 def test_notebooks_exist():
     names = [p.stem for p in NOTEBOOKS]
     assert "01_rcm_kinematics" in names, names
+    assert "05_parallel_mechanisms" in names, names
 
 
 @pytest.mark.parametrize("path", NOTEBOOKS, ids=[p.stem for p in NOTEBOOKS])

@@ -7,17 +7,39 @@ from pathlib import Path
 
 import numpy as np
 
+from rcm_pin.catalog import get_spec
 from rcm_pin.cli._common import add_common, emit, fmt, parse_vector, parse_xacro_args
-from rcm_pin.errors import InvalidInputError
+from rcm_pin.errors import InvalidInputError, UnknownMechanismError
 from rcm_pin.mechanism import load
+
+_CLOSED_HELP = "closed loops (planar_3rrr, five_bar): "
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the subcommands of this module."""
-    p = sub.add_parser("singularities", help="Jacobian rank, singular values, named causes")
+    p = sub.add_parser(
+        "singularities",
+        help="Jacobian rank, singular values, named causes (closed loops: type 1 / type 2)",
+    )
     add_common(p)
-    p.add_argument("--q", help="q1,...,qn [rad, m]: analyse one configuration")
-    p.add_argument("--grid", help="i,j[,N]: map a measure over coordinates qi, qj (1-based)")
+    p.add_argument(
+        "--q",
+        help="q1,...,qn [rad, m]: analyse one configuration ("
+        + _CLOSED_HELP
+        + "drive angles, every assembly mode)",
+    )
+    p.add_argument(
+        "--grid",
+        nargs="?",
+        const="",
+        help="i,j[,N]: map a measure over coordinates qi, qj (1-based); "
+        + _CLOSED_HELP
+        + "bare --grid maps det A / det B over the workspace",
+    )
+    p.add_argument("--pose", help=_CLOSED_HELP + "output pose x,y,phi (five_bar: x,y)")
+    p.add_argument("--mode", help=_CLOSED_HELP + "working mode, index or signs like +-+")
+    p.add_argument("--phi", type=float, default=0.0, help=_CLOSED_HELP + "grid orientation [rad]")
+    p.add_argument("--n", type=int, default=121, help=_CLOSED_HELP + "grid points per side")
     p.add_argument("--task", default="full", choices=("full", "position"))
     p.add_argument(
         "--measure",
@@ -28,10 +50,20 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--plot", type=Path, help="grid: write a PNG")
     p.set_defaults(func=cmd_singularities)
 
-    p = sub.add_parser("workspace", help="reachable tool-centre set, volume, rig-spec check")
+    p = sub.add_parser(
+        "workspace",
+        help="reachable tool-centre set, volume, rig-spec check (closed loops: areas)",
+    )
     add_common(p)
     p.add_argument("--samples", type=int, default=200_000, help="joint samples (default 2e5)")
     p.add_argument("--plot", type=Path, help="write a PNG of workspace sections")
+    p.add_argument(
+        "--phi", type=float, default=0.0, help=_CLOSED_HELP + "constant orientation [rad]"
+    )
+    p.add_argument(
+        "--phi-range", help=_CLOSED_HELP + "lo,hi [rad] of the total workspace (default -pi,pi)"
+    )
+    p.add_argument("--n", type=int, default=121, help=_CLOSED_HELP + "grid points per side")
     p.set_defaults(func=cmd_workspace)
 
     p = sub.add_parser("accuracy", help="first-order sensitivity to manufacturing errors")
@@ -49,12 +81,34 @@ def _base_q(mech, text: str | None) -> np.ndarray:
     return q
 
 
+def is_closed(name: str) -> bool:
+    """True for a closed-loop catalogue entry (paths and unknown names stay serial)."""
+    try:
+        return get_spec(name).kind == "closed"
+    except UnknownMechanismError:
+        return False
+
+
+def _closed_only(args: argparse.Namespace, options: dict[str, object]) -> None:
+    given = [k for k, v in options.items() if v]
+    if given:
+        raise InvalidInputError(
+            f"{', '.join(given)} apply to closed mechanisms only; valid for {args.name}: "
+            "see rcm-pin " + args.command + " --help"
+        )
+
+
 def cmd_singularities(args: argparse.Namespace) -> int:
     from rcm_pin import singularity as sg
 
+    if is_closed(args.name):
+        return _closed_singularities(args)
+    _closed_only(args, {"--pose": args.pose, "--mode": args.mode})
     mech = load(args.name, **parse_xacro_args(args.arg))
     if (args.q is None) == (args.grid is None):
         raise InvalidInputError("singularities needs exactly one of --q or --grid")
+    if args.grid == "":
+        raise InvalidInputError("--grid needs i,j[,N] for serial mechanisms, e.g. --grid 1,2,41")
     if args.q is not None:
         q = parse_vector(args.q, "q", mech.nq)
         analyses = {t: sg.analyse(mech, q, t) for t in sg.TASKS}
@@ -129,6 +183,9 @@ def _plot_grid(args, name, xs, ys, vals, i, j) -> None:
 def cmd_workspace(args: argparse.Namespace) -> int:
     from rcm_pin import workspace as ws
 
+    if is_closed(args.name):
+        return _closed_workspace(args)
+    _closed_only(args, {"--phi-range": args.phi_range})
     mech = load(args.name, **parse_xacro_args(args.arg))
     if args.samples < 1000:
         raise InvalidInputError(f"--samples {args.samples}; valid: >= 1000")
@@ -169,4 +226,98 @@ def cmd_accuracy(args: argparse.Namespace) -> int:
         for r in rep["rows"]
     ]
     emit(args, rep, "\n".join(lines))
+    return 0
+
+
+# ------------------------------------------------------------------ closed loops
+def _closed_singularities(args: argparse.Namespace) -> int:
+    from rcm_pin.closed_loop import direct_position, load_closed
+    from rcm_pin.closed_loop import summary as sm
+    from rcm_pin.closed_loop.core import wrap
+
+    mech = load_closed(args.name, **parse_xacro_args(args.arg))
+    given = [
+        o
+        for o, v in (("--pose", args.pose), ("--q", args.q), ("--grid", args.grid))
+        if v is not None
+    ]
+    if len(given) != 1:
+        raise InvalidInputError(
+            f"singularities {args.name} needs exactly one of --pose, --q or --grid"
+        )
+    mode = sm.parse_mode(mech, args.mode)
+    if args.grid is not None:
+        if args.grid != "":
+            raise InvalidInputError(
+                f"--grid takes no value for closed mechanisms (got {args.grid!r}); "
+                "valid: --grid [--mode M] [--phi PHI] [--n N]"
+            )
+        res = sm.singularity_map(mech, 0 if mode is None else mode, args.phi, args.n)
+        if args.plot:
+            res["plot"] = str(sm.plot_singularity_map(res, args.plot))
+        else:
+            res["plot"] = None
+        text = (
+            f"{mech.name}: det A / det B map, mode {res['mode']}"
+            + (f", phi = {args.phi:g} rad" if res["phi"] is not None else "")
+            + f" ({args.n}x{args.n}): reachable area {res['reachable_area']:.4g} m^2, "
+            f"{res['type2_sign_changes']} type-2 crossings along rows, "
+            f"min |det A| {res['min_abs_det_A']:.3g}, min |det B| {res['min_abs_det_B']:.3g}"
+        )
+        emit(args, sm.nan_to_none(res), text + (f"\nwrote {args.plot}" if args.plot else ""))
+        return 0
+    if args.plot:
+        raise InvalidInputError("--plot needs --grid")
+    if args.pose is not None:
+        res = sm.pose_singularities(mech, parse_vector(args.pose, "pose", mech.dof), mode)
+    else:
+        if mode is not None:
+            raise InvalidInputError("--mode selects a working mode of --pose or --grid, not --q")
+        drives = parse_vector(args.q, "q", mech.dof)
+        modes = []
+        for sol in direct_position(mech, drives, all_modes=True).solutions:
+            one = sm.pose_singularities(mech, sol.pose, None)
+            for m in one["modes"]:
+                if float(np.max(np.abs(wrap(m["q"] - sol.q)))) < 1e-7:
+                    modes.append({**m, "pose": sol.pose, "assembly": sol.mode})
+        res = {
+            "mechanism": mech.name,
+            "q_drives": drives,
+            "output_coords": list(mech.output_coords),
+            "tol": sm.SINGULAR_TOL,
+            "modes": modes,
+        }
+    lines = [f"{mech.name}: tolerance {res['tol']:g} on sigma_min/sigma_max"]
+    for m in res["modes"]:
+        where = f" {m['assembly']} pose {fmt(m['pose'], 5)}," if "assembly" in m else ""
+        screw = "agrees" if m["screw_agrees"] else "DISAGREES"
+        lines.append(
+            f"mode {m['mode']}:{where} {m['verdict']}; det A {m['det_A']:.4g}, det B "
+            f"{m['det_B']:.4g}, sigma(A) {fmt(m['sigma_A'], 4)}, sigma(B) {fmt(m['sigma_B'], 4)}; "
+            f"screw test {screw}"
+        )
+    emit(args, res, "\n".join(lines))
+    return 0
+
+
+def _closed_workspace(args: argparse.Namespace) -> int:
+    from rcm_pin.closed_loop import load_closed
+    from rcm_pin.closed_loop import summary as sm
+
+    mech = load_closed(args.name, **parse_xacro_args(args.arg))
+    lo_hi = (-np.pi, np.pi)
+    if args.phi_range:
+        lo, hi = parse_vector(args.phi_range, "phi-range", 2)
+        lo_hi = (float(lo), float(hi))
+    if not np.isfinite(args.phi):
+        raise InvalidInputError(f"--phi {args.phi}; valid: a finite angle [rad]")
+    res = sm.workspace_areas(mech, args.phi, lo_hi, n=args.n)
+    res["plot"] = str(sm.plot_workspace(mech, args.plot, args.phi, args.n)) if args.plot else None
+    text = (
+        f"{mech.name} ({args.n}x{args.n} grid): constant-orientation area "
+        f"{res['constant_orientation_area']:.5g} m^2"
+        + (f" (phi = {args.phi:g} rad)" if res["phi"] is not None else "")
+        + f", total {res['total_area']:.5g} m^2, reachable {res['reachable_area']:.5g} m^2"
+    )
+    emit(args, res, text + (f"\nwrote {args.plot}" if args.plot else ""))
     return 0
