@@ -160,4 +160,8 @@ def report_section(out_dir: Path) -> str:
 
 def section(out_dir: Path) -> Section:
     """The report section of :mod:`rcm_pin.report` (see :func:`report_section`)."""
-    return Section("Paper 004: closed-loop mechanisms", report_section(out_dir))
+    body = report_section(out_dir)
+    title, _, rest = body.lstrip().partition("\n")
+    if title.startswith("## "):  # report_section carries its own heading
+        return Section(title[3:].strip(), rest)
+    return Section("Paper 004: closed-loop mechanisms", body)

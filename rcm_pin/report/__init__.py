@@ -129,6 +129,9 @@ def write_report(out_dir: Path, only: list[str] | None = None, quiet: bool = Fal
         elapsed = time.perf_counter() - start
         timings.append((section.title, elapsed))
         parts.append(f"## {section.title}\n\n{section.body.strip()}\n")
+        unshown = [f for f in section.figures if f"]({f})" not in section.body]
+        if unshown:  # embed figures the body only names
+            parts.append("\n".join(f"![{f}]({f})" for f in unshown) + "\n")
     parts.append("## Run time per section\n")
     parts.append("\n".join(f"- {title}: {sec:.1f} s" for title, sec in timings) + "\n")
     path = out_dir / "report.md"
