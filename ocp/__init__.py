@@ -1,6 +1,31 @@
 """CasADi layer of rcm-pin: the symbolic twin of a ``pin.Model`` (mimic joints included),
-inverse-kinematics NLPs and trajectory-tracking OCPs built from it."""
+inverse-kinematics NLPs and trajectory-tracking OCPs built from it.
 
+* :class:`SymbolicModel`: named ``casadi.Function`` s (frame placements and Jacobians,
+  RNEA, mass matrix, gravity, nonlinear effects, forward dynamics) of any model with
+  revolute, prismatic, continuous and mimic joints;
+* :class:`IKProblem` / :func:`solve_ik`: IK of a frame (pose or position) with joint
+  limits and optional :class:`AxisThroughPoint` (RCM) / :class:`OrientationCone`
+  constraints; Levenberg-Marquardt by default, IPOPT or SQP with constraints;
+* :class:`TrackingOCP`: tool-position tracking by direct collocation with implicit
+  (inverse) dynamics and drive limits; :mod:`ocp.paper000` sets up paper 000's example;
+* :func:`report_section`: the markdown section of the project report.
+"""
+
+from ocp.ik import IKProblem, IKResult, solve_ik
+from ocp.ik_constraints import AxisThroughPoint, OrientationCone
+from ocp.report import report_section
 from ocp.symbolic import SymbolicModel
+from ocp.tracking import TrackingOCP, TrackingResult
 
-__all__ = ["SymbolicModel"]
+__all__ = [
+    "AxisThroughPoint",
+    "IKProblem",
+    "IKResult",
+    "OrientationCone",
+    "SymbolicModel",
+    "TrackingOCP",
+    "TrackingResult",
+    "report_section",
+    "solve_ik",
+]

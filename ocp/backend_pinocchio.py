@@ -35,7 +35,8 @@ class PinocchioCasadiBackend:  # pragma: no cover - needs pinocchio.casadi
         if not AVAILABLE:
             raise InvalidInputError(
                 "backend='pinocchio' needs pinocchio.casadi, which the PyPI 'pin' wheel "
-                "does not ship; use backend='native' (the default)")
+                "does not ship; use backend='native' (the default)"
+            )
         if sym != "SX":
             raise InvalidInputError("backend='pinocchio' supports sym='SX' only")
         self.cmodel = cpin.Model(model)

@@ -13,6 +13,8 @@ are pairs of 3-vectors expressed in the joint frame: motions ``(v, w)``, forces 
 
 from __future__ import annotations
 
+from typing import Any
+
 import casadi as ca
 import numpy as np
 
@@ -70,8 +72,9 @@ def _dot(a: Vec6, b: Vec6) -> Sym:
     return ca.dot(a[0], b[0]) + ca.dot(a[1], b[1])
 
 
-def rnea(specs: tuple[JointSpec, ...], armature: np.ndarray, gravity: np.ndarray, q: Sym,
-         v: Sym, a: Sym) -> Sym:
+def rnea(
+    specs: tuple[JointSpec, ...], armature: np.ndarray, gravity: np.ndarray, q: Sym, v: Sym, a: Sym
+) -> Sym:
     """Inverse dynamics ``tau(q, v, a)`` (nv x 1), gravity ``gravity`` (3,) in world."""
     sym = type(q)
     nv = v.shape[0]
@@ -83,10 +86,14 @@ def rnea(specs: tuple[JointSpec, ...], armature: np.ndarray, gravity: np.ndarray
         sj = subspace(s)
         vj = _scaled(sj, s.scaling * v[s.idx_v])
         vel[s.index] = _add(motion_inv(m, vel[s.parent]), vj)
-        acc[s.index] = _add(_add(motion_inv(m, acc[s.parent]), _scaled(sj, s.scaling * a[s.idx_v])),
-                            motion_cross(vel[s.index], vj))
-        force[s.index] = _add(inertia_apply(s, acc[s.index]),
-                              force_cross(vel[s.index], inertia_apply(s, vel[s.index])))
+        acc[s.index] = _add(
+            _add(motion_inv(m, acc[s.parent]), _scaled(sj, s.scaling * a[s.idx_v])),
+            motion_cross(vel[s.index], vj),
+        )
+        force[s.index] = _add(
+            inertia_apply(s, acc[s.index]),
+            force_cross(vel[s.index], inertia_apply(s, vel[s.index])),
+        )
     tau = [sym.zeros(1, 1) for _ in range(nv)]
     for s, m in reversed(list(zip(specs, li))):
         f = force[s.index]
@@ -109,8 +116,7 @@ def motion_inv_matrix(m: Pose) -> Sym:
     """6 x 6 matrix of :func:`motion_inv`; its transpose is the force transform."""
     r, p = m
     rt = r.T
-    return ca.vertcat(ca.horzcat(rt, -ca.mtimes(rt, skew(p))),
-                      ca.horzcat(ca.DM.zeros(3, 3), rt))
+    return ca.vertcat(ca.horzcat(rt, -ca.mtimes(rt, skew(p))), ca.horzcat(ca.DM.zeros(3, 3), rt))
 
 
 def crba(specs: tuple[JointSpec, ...], armature: np.ndarray, q: Sym, nv: int) -> Sym:
@@ -144,7 +150,7 @@ def crba(specs: tuple[JointSpec, ...], armature: np.ndarray, q: Sym, nv: int) ->
     return strict + strict.T + diag + ca.diag(ca.DM(armature))
 
 
-def _svec(s: JointSpec) -> ca.DM:
+def _svec(s: JointSpec) -> Any:
     return ca.vertcat(*subspace(s))
 
 
@@ -155,17 +161,17 @@ def _skew_np(a: np.ndarray) -> np.ndarray:
 def cholesky_solve(m: Sym, rhs: Sym) -> Sym:
     """``m^{-1} rhs`` by an unrolled symbolic Cholesky factorisation (m symmetric p.d.)."""
     n = m.shape[0]
-    low = [[None] * n for _ in range(n)]
+    low: list[list[Any]] = [[None] * n for _ in range(n)]
     for j in range(n):
         d = m[j, j] - sum((low[j][k] ** 2 for k in range(j)), ca.DM(0))
         low[j][j] = ca.sqrt(d)
         for i in range(j + 1, n):
             acc = m[i, j] - sum((low[i][k] * low[j][k] for k in range(j)), ca.DM(0))
             low[i][j] = acc / low[j][j]
-    y = []
+    y: list[Any] = []
     for i in range(n):
         y.append((rhs[i, :] - sum((low[i][k] * y[k] for k in range(i)), ca.DM(0))) / low[i][i])
-    x: list[Sym] = [None] * n  # type: ignore[list-item]
+    x: list[Any] = [None] * n
     for i in reversed(range(n)):
         x[i] = (y[i] - sum((low[k][i] * x[k] for k in range(i + 1, n)), ca.DM(0))) / low[i][i]
     return ca.vertcat(*x) if n else rhs

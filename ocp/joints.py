@@ -76,8 +76,9 @@ def _probe(model: pin.Model, jmodel: pin.JointModel, q: np.ndarray) -> tuple[np.
     return np.array(jdata.S).reshape(6).copy(), pin.SE3(jdata.M)
 
 
-def _identify(model: pin.Model, jid: int, primary: pin.JointModel, scaling: float,
-              offset: float) -> tuple[JointKind, np.ndarray]:
+def _identify(
+    model: pin.Model, jid: int, primary: pin.JointModel, scaling: float, offset: float
+) -> tuple[JointKind, np.ndarray]:
     """Joint kind and unit axis, checked against Pinocchio's own joint placement."""
     name = model.names[jid]
     unbounded = primary.nq == 2 and primary.nv == 1
@@ -87,7 +88,7 @@ def _identify(model: pin.Model, jid: int, primary: pin.JointModel, scaling: floa
         raise InvalidInputError(f"mimic joint {name!r} follows a continuous joint: unsupported")
     q = pin.neutral(model)
     if unbounded:
-        q[primary.idx_q:primary.idx_q + 2] = np.cos(_PROBE), np.sin(_PROBE)
+        q[primary.idx_q : primary.idx_q + 2] = np.cos(_PROBE), np.sin(_PROBE)
     else:
         q[primary.idx_q] = (_PROBE - offset) / scaling
     s, placement = _probe(model, model.joints[jid], q)
@@ -101,7 +102,8 @@ def _identify(model: pin.Model, jid: int, primary: pin.JointModel, scaling: floa
     else:
         raise InvalidInputError(
             f"joint {name!r} ({model.joints[jid].shortname()}) is not a revolute or prismatic "
-            "joint with a unit axis; supported: revolute, prismatic, continuous, mimic")
+            "joint with a unit axis; supported: revolute, prismatic, continuous, mimic"
+        )
     expected = pin.exp6(pin.Motion(_PROBE * s))
     if not expected.isApprox(placement, 1e-12):
         raise InvalidInputError(f"joint {name!r}: placement is not exp6(theta * S); unsupported")
@@ -123,26 +125,45 @@ def joint_specs(model: pin.Model) -> tuple[JointSpec, ...]:
             raise InvalidInputError(
                 f"joint {model.names[jid]!r} ({jmodel.shortname()}, nq={jmodel.nq}, "
                 f"nv={jmodel.nv}) is unsupported; supported: revolute, prismatic, continuous, "
-                "mimic (free-flyer, spherical, planar joints are not)")
+                "mimic (free-flyer, spherical, planar joints are not)"
+            )
         kind, axis = _identify(model, jid, primary, scaling, offset)
         placement = model.jointPlacements[jid]
         inertia = model.inertias[jid]
-        specs.append(JointSpec(
-            index=jid, name=str(model.names[jid]), parent=int(model.parents[jid]), kind=kind,
-            axis=axis, rotation=np.array(placement.rotation), translation=np.array(
-                placement.translation), idx_q=int(primary.idx_q), idx_v=int(primary.idx_v),
-            scaling=scaling, offset=offset, mimic=primary.id != jid, mass=float(inertia.mass),
-            lever=np.array(inertia.lever), inertia=np.array(inertia.inertia)))
+        specs.append(
+            JointSpec(
+                index=jid,
+                name=str(model.names[jid]),
+                parent=int(model.parents[jid]),
+                kind=kind,
+                axis=axis,
+                rotation=np.array(placement.rotation),
+                translation=np.array(placement.translation),
+                idx_q=int(primary.idx_q),
+                idx_v=int(primary.idx_v),
+                scaling=scaling,
+                offset=offset,
+                mimic=primary.id != jid,
+                mass=float(inertia.mass),
+                lever=np.array(inertia.lever),
+                inertia=np.array(inertia.inertia),
+            )
+        )
     return tuple(specs)
 
 
 def frame_specs(model: pin.Model) -> tuple[FrameSpec, ...]:
     """Every frame of ``model`` (operational, body, joint and fixed-joint frames)."""
     return tuple(
-        FrameSpec(index=i, name=str(f.name), parent=int(f.parentJoint),
-                  rotation=np.array(f.placement.rotation),
-                  translation=np.array(f.placement.translation))
-        for i, f in enumerate(model.frames))
+        FrameSpec(
+            index=i,
+            name=str(f.name),
+            parent=int(f.parentJoint),
+            rotation=np.array(f.placement.rotation),
+            translation=np.array(f.placement.translation),
+        )
+        for i, f in enumerate(model.frames)
+    )
 
 
 def coupling_matrix(model: pin.Model, specs: tuple[JointSpec, ...]) -> np.ndarray:

@@ -16,21 +16,22 @@ into the column of its primary coordinate ``idx_v``; LOCAL rotates both halves b
 
 from __future__ import annotations
 
-from typing import Union
+from typing import Any
 
 import casadi as ca
 import numpy as np
 
 from ocp.joints import FrameSpec, JointSpec
 
-Sym = Union[ca.SX, ca.MX]
+Sym = Any  # casadi.SX or casadi.MX (CasADi's stubs do not mix the two)
 Pose = tuple[Sym, Sym]  # (R 3x3, p 3x1)
 
 
 def skew(a: Sym | np.ndarray) -> Sym:
     """The cross-product matrix ``[a]x`` with ``[a]x b = a x b``."""
-    return ca.vertcat(ca.horzcat(0, -a[2], a[1]), ca.horzcat(a[2], 0, -a[0]),
-                      ca.horzcat(-a[1], a[0], 0))
+    return ca.vertcat(
+        ca.horzcat(0, -a[2], a[1]), ca.horzcat(a[2], 0, -a[0]), ca.horzcat(-a[1], a[0], 0)
+    )
 
 
 def axis_rotation(axis: np.ndarray, c: Sym, s: Sym) -> Sym:
@@ -104,8 +105,9 @@ def supports(specs: tuple[JointSpec, ...], joint_id: int) -> list[JointSpec]:
     return chain[::-1]
 
 
-def frame_jacobian_world(specs: tuple[JointSpec, ...], frame: FrameSpec, nv: int,
-                         oMi: dict[int, Pose], p_f: Sym) -> Sym:
+def frame_jacobian_world(
+    specs: tuple[JointSpec, ...], frame: FrameSpec, nv: int, oMi: dict[int, Pose], p_f: Sym
+) -> Sym:
     """6 x nv Jacobian of ``frame`` in LOCAL_WORLD_ALIGNED (rows: linear, angular)."""
     cols: list[Sym] = [type(p_f).zeros(6, 1) for _ in range(nv)]
     for s in supports(specs, frame.parent):
@@ -126,6 +128,15 @@ def to_local(jac_world: Sym, rot: Sym) -> Sym:
 
 
 __all__ = [
-    "axis_rotation", "compose", "frame_jacobian_world", "frame_placement", "joint_motion",
-    "joint_variables", "local_placements", "skew", "supports", "to_local", "world_placements",
+    "axis_rotation",
+    "compose",
+    "frame_jacobian_world",
+    "frame_placement",
+    "joint_motion",
+    "joint_variables",
+    "local_placements",
+    "skew",
+    "supports",
+    "to_local",
+    "world_placements",
 ]

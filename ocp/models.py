@@ -38,7 +38,8 @@ def example_robot_model(name: str, mimic: bool = True) -> pin.Model:
     """``ur5`` or ``panda`` from the installed example-robot-data files."""
     if name not in EXAMPLE_ROBOTS:
         raise UnknownMechanismError(
-            f"unknown example robot {name!r}; valid: {', '.join(sorted(EXAMPLE_ROBOTS))}")
+            f"unknown example robot {name!r}; valid: {', '.join(sorted(EXAMPLE_ROBOTS))}"
+        )
     try:
         dist = importlib.metadata.distribution("example-robot-data")
     except importlib.metadata.PackageNotFoundError:
@@ -67,6 +68,12 @@ def mechanism_model(name: str) -> pin.Model:
 
 
 __all__ = [
-    "EXAMPLE_ROBOTS", "EXAMPLE_TOOL_FRAMES", "TEST_DATA_DIR", "URDF_DIR", "example_robot_model",
-    "mechanism_model", "model_from_urdf", "repo_urdfs",
+    "EXAMPLE_ROBOTS",
+    "EXAMPLE_TOOL_FRAMES",
+    "TEST_DATA_DIR",
+    "URDF_DIR",
+    "example_robot_model",
+    "mechanism_model",
+    "model_from_urdf",
+    "repo_urdfs",
 ]

@@ -26,7 +26,8 @@ interface; the PyPI ``pin`` wheel does not ship them, so that backend raises
 
 from __future__ import annotations
 
-from typing import Any, Callable, Literal
+from collections.abc import Callable
+from typing import Any, Literal
 
 import casadi as ca
 import numpy as np
@@ -37,9 +38,14 @@ from ocp.joints import FrameSpec, coupling_matrix, frame_specs, joint_specs
 from rcm_pin.errors import InvalidInputError, UnknownFrameError
 
 Reference = Literal["LOCAL_WORLD_ALIGNED", "LOCAL"]
+#: Options of every JIT-compiled function (system C compiler through CasADi's "shell"
+#: plugin). -O1: on the large OCP stage functions it runs as fast as -O2 and compiles
+#: about 1.5x faster.
 JIT_OPTIONS: dict[str, Any] = {
-    "jit": True, "compiler": "shell", "jit_cleanup": True,
-    "jit_options": {"flags": ["-O2", "-march=native"], "verbose": False},
+    "jit": True,
+    "compiler": "shell",
+    "jit_cleanup": True,
+    "jit_options": {"flags": ["-O1"], "verbose": False},
 }
 
 
@@ -47,8 +53,14 @@ class SymbolicModel:
     """Named CasADi functions of one Pinocchio model (revolute, prismatic, continuous and
     mimic joints; fixed frames). ``q`` has ``nq`` entries (continuous joints: cos, sin)."""
 
-    def __init__(self, model: pin.Model, *, sym: Literal["SX", "MX"] = "SX", jit: bool = False,
-                 backend: Literal["native", "pinocchio"] = "native") -> None:
+    def __init__(
+        self,
+        model: pin.Model,
+        *,
+        sym: Literal["SX", "MX"] = "SX",
+        jit: bool = False,
+        backend: Literal["native", "pinocchio"] = "native",
+    ) -> None:
         if sym not in ("SX", "MX"):
             raise InvalidInputError(f"sym must be 'SX' or 'MX', got {sym!r}")
         if backend not in ("native", "pinocchio"):
@@ -94,8 +106,14 @@ class SymbolicModel:
             self._cache[name] = build()
         return self._cache[name]
 
-    def _make(self, name: str, inputs: list[Any], outputs: list[Any], in_names: list[str],
-              out_names: list[str]) -> ca.Function:
+    def _make(
+        self,
+        name: str,
+        inputs: list[Any],
+        outputs: list[Any],
+        in_names: list[str],
+        out_names: list[str],
+    ) -> ca.Function:
         opts: dict[str, Any] = dict(JIT_OPTIONS) if self.jit else {}
         return ca.Function(name, inputs, outputs, in_names, out_names, opts)
 
@@ -119,12 +137,14 @@ class SymbolicModel:
 
         return self._function(f"placement_{fid}", build)
 
-    def frame_jacobian(self, frame: str | int,
-                       reference: Reference = "LOCAL_WORLD_ALIGNED") -> ca.Function:
+    def frame_jacobian(
+        self, frame: str | int, reference: Reference = "LOCAL_WORLD_ALIGNED"
+    ) -> ca.Function:
         """``jacobian_<frame>[_local](q) -> J`` (6 x nv; rows linear then angular)."""
         if reference not in ("LOCAL_WORLD_ALIGNED", "LOCAL"):
             raise InvalidInputError(
-                f"reference must be 'LOCAL_WORLD_ALIGNED' or 'LOCAL', got {reference!r}")
+                f"reference must be 'LOCAL_WORLD_ALIGNED' or 'LOCAL', got {reference!r}"
+            )
         fid = self.frame_id(frame)
         suffix = "_local" if reference == "LOCAL" else ""
 
@@ -135,8 +155,9 @@ class SymbolicModel:
             else:
                 oMi = kinematics.world_placements(self.joints, q)
                 r, p = kinematics.frame_placement(self.frames[fid], oMi)
-                jac = kinematics.frame_jacobian_world(self.joints, self.frames[fid], self.nv,
-                                                      oMi, p)
+                jac = kinematics.frame_jacobian_world(
+                    self.joints, self.frames[fid], self.nv, oMi, p
+                )
                 if reference == "LOCAL":
                     jac = kinematics.to_local(jac, r)
             return self._make(f"jacobian_{self._safe(fid)}{suffix}", [q], [jac], ["q"], ["J"])
@@ -175,8 +196,9 @@ class SymbolicModel:
 
         def build() -> ca.Function:
             q, v, a = self._symbols()
-            return self._make("rnea", [q, v, a], [self._rnea_expr(q, v, a)],
-                              ["q", "v", "a"], ["tau"])
+            return self._make(
+                "rnea", [q, v, a], [self._rnea_expr(q, v, a)], ["q", "v", "a"], ["tau"]
+            )
 
         return self._function("rnea", build)
 
@@ -210,8 +232,9 @@ class SymbolicModel:
         def build() -> ca.Function:
             q, v, _ = self._symbols()
             z = ca.DM.zeros(self.nv, 1)
-            return self._make("nonlinear_effects", [q, v], [self._rnea_expr(q, v, z)],
-                              ["q", "v"], ["b"])
+            return self._make(
+                "nonlinear_effects", [q, v], [self._rnea_expr(q, v, z)], ["q", "v"], ["b"]
+            )
 
         return self._function("nonlinear_effects", build)
 

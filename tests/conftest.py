@@ -46,3 +46,11 @@ def m5():
     from rcm_pin.closed_loop import load_closed
 
     return load_closed("five_bar")
+
+
+@pytest.fixture(autouse=True)
+def _seed_pinocchio():
+    """Seed Pinocchio's own generator (pin.randomConfiguration) so every test is repeatable."""
+    import pinocchio as pin
+
+    pin.seed(0)

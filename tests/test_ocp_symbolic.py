@@ -77,7 +77,7 @@ def test_frames_and_jacobians(states):
 def test_dynamics(states):
     _, model, sm, q, v, a = states
     data = model.createData()
-    num = {k: [] for k in ("tau", "M", "g", "b", "fd")}
+    num: dict[str, list[np.ndarray]] = {k: [] for k in ("tau", "M", "g", "b", "fd")}
     for k in range(N_STATES):
         qk, vk, ak = q[:, k], v[:, k], a[:, k]
         tau = pin.rnea(model, data, qk, vk, ak).copy()
@@ -96,12 +96,19 @@ def test_dynamics(states):
     (nle,) = _mapped(sm.nonlinear_effects(), q, v)
     (acc,) = _mapped(sm.forward_dynamics(), q, v, ref["tau"].T)
     assert np.abs(tau.T - ref["tau"]).max() < DYN_TOL
-    assert np.abs(mass.reshape(model.nv, N_STATES, model.nv).transpose(1, 0, 2)
-                  - ref["M"]).max() < DYN_TOL
+    assert (
+        np.abs(mass.reshape(model.nv, N_STATES, model.nv).transpose(1, 0, 2) - ref["M"]).max()
+        < DYN_TOL
+    )
     assert np.abs(grav.T - ref["g"]).max() < DYN_TOL
     assert np.abs(nle.T - ref["b"]).max() < DYN_TOL
-    assert np.abs(acc.T - ref["fd"]).max() < DYN_TOL
-    assert np.abs(acc - a).max() < 1e-8  # forward dynamics inverts RNEA
+    # Forward dynamics: backward error to DYN_TOL; forward error to DYN_TOL plus what the
+    # conditioning of M allows (the RCM wrists give cond(M) ~ 1e7).
+    resid = np.einsum("kij,kj->ki", ref["M"], acc.T) - (ref["tau"] - ref["b"])
+    assert np.abs(resid).max() < DYN_TOL
+    bound = DYN_TOL + 1e-15 * np.linalg.cond(ref["M"]) * np.abs(a).max(0)
+    assert (np.abs(acc.T - ref["fd"]).max(1) < bound).all()
+    assert (np.abs(acc - a).max(0) < bound).all()  # forward dynamics inverts RNEA
 
 
 def test_forward_dynamics_matches_aba_without_mimic():
@@ -111,7 +118,9 @@ def test_forward_dynamics_matches_aba_without_mimic():
     fd = sm.forward_dynamics()
     for _ in range(50):
         q, v, tau = pin.randomConfiguration(model), rng.normal(size=6), rng.normal(size=6)
-        assert np.abs(np.array(fd(q, v, tau)).ravel() - pin.aba(model, data, q, v, tau)).max() < 1e-10
+        assert (
+            np.abs(np.array(fd(q, v, tau)).ravel() - pin.aba(model, data, q, v, tau)).max() < 1e-10
+        )
 
 
 def test_integrate_matches_pinocchio_with_continuous_joint():
@@ -121,7 +130,9 @@ def test_integrate_matches_pinocchio_with_continuous_joint():
     integrate = sm.integrate()
     for _ in range(20):
         q, dv = pin.randomConfiguration(model), rng.normal(size=model.nv)
-        assert np.abs(np.array(integrate(q, dv)).ravel() - pin.integrate(model, q, dv)).max() < 1e-14
+        assert (
+            np.abs(np.array(integrate(q, dv)).ravel() - pin.integrate(model, q, dv)).max() < 1e-14
+        )
 
 
 def test_mx_twin_equals_sx_twin():
@@ -131,10 +142,18 @@ def test_mx_twin_equals_sx_twin():
     v = np.random.default_rng(0).normal(size=model.nv)
     for name in ("rnea", "mass_matrix", "forward_dynamics"):
         args = {"rnea": (q, v, v), "mass_matrix": (q,), "forward_dynamics": (q, v, v)}[name]
-        assert np.abs(np.array(getattr(sx, name)()(*args))
-                      - np.array(getattr(mx, name)()(*args))).max() < 1e-12
-    assert np.abs(np.array(sx.frame_jacobian("marker")(q))
-                  - np.array(mx.frame_jacobian("marker")(q))).max() < 1e-14
+        assert (
+            np.abs(
+                np.array(getattr(sx, name)()(*args)) - np.array(getattr(mx, name)()(*args))
+            ).max()
+            < 1e-12
+        )
+    assert (
+        np.abs(
+            np.array(sx.frame_jacobian("marker")(q)) - np.array(mx.frame_jacobian("marker")(q))
+        ).max()
+        < 1e-14
+    )
 
 
 def test_functions_are_named():
@@ -145,12 +164,20 @@ def test_functions_are_named():
     assert sm.frame_placement("marker").name_out() == ["p", "R"]
 
 
-@pytest.mark.parametrize("joint", [pin.JointModelFreeFlyer(), pin.JointModelSpherical(),
-                                   pin.JointModelHelicalZ(0.1), pin.JointModelPlanar()])
+@pytest.mark.parametrize(
+    "joint",
+    [
+        pin.JointModelFreeFlyer(),
+        pin.JointModelSpherical(),
+        pin.JointModelHZ(0.1),
+        pin.JointModelPlanar(),
+        pin.JointModelUniversal(np.array([1.0, 0, 0]), np.array([0, 1.0, 0])),
+    ],
+)
 def test_unsupported_joints_raise(joint):
     model = pin.Model()
     model.addJoint(0, joint, pin.SE3.Identity(), "j")
-    with pytest.raises(InvalidInputError, match="unsupported|not a revolute"):
+    with pytest.raises(InvalidInputError, match=r"unsupported|not a revolute"):
         SymbolicModel(model)
 
 
@@ -169,5 +196,5 @@ def test_pinocchio_backend_is_guarded():
 
     if AVAILABLE:  # pragma: no cover - not with the PyPI wheel
         pytest.skip("pinocchio.casadi present: backend usable")
-    with pytest.raises(InvalidInputError, match="pinocchio.casadi"):
+    with pytest.raises(InvalidInputError, match=r"pinocchio\.casadi"):
         SymbolicModel(_load("mimic_tree"), backend="pinocchio")

@@ -160,8 +160,4 @@ def report_section(out_dir: Path) -> str:
 
 def section(out_dir: Path) -> Section:
     """The report section of :mod:`rcm_pin.report` (see :func:`report_section`)."""
-    body = report_section(out_dir)
-    title, _, rest = body.lstrip().partition("\n")
-    if title.startswith("## "):  # report_section carries its own heading
-        return Section(title[3:].strip(), rest)
-    return Section("Paper 004: closed-loop mechanisms", body)
+    return Section.from_markdown(report_section(out_dir), "Paper 004: closed-loop mechanisms")

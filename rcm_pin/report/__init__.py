@@ -84,6 +84,14 @@ class Section:
     body: str
     figures: tuple[str, ...] = field(default_factory=tuple)
 
+    @classmethod
+    def from_markdown(cls, markdown: str, default_title: str) -> Section:
+        """A section from markdown whose first line may be its own ``## `` heading."""
+        first, _, rest = markdown.lstrip().partition("\n")
+        if first.startswith("## "):
+            return cls(first[3:].strip(), rest)
+        return cls(default_title, markdown)
+
 
 def _resolve(entry: str) -> Callable[[Path], Section] | None:
     module_name, _, func = entry.partition(":")

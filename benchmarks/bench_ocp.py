@@ -1,0 +1,178 @@
+"""Speed of the CasADi layer (run on demand, never in the test suite).
+
+    python benchmarks/bench_ocp.py            # twin, IK, tracking (about 2 min)
+    python benchmarks/bench_ocp.py --jit      # also JIT-compiled tracking (compiles ~1 min)
+    python benchmarks/bench_ocp.py --only ik  # one part: twin | ik | tracking
+
+Prints markdown tables: per-call times of the symbolic twin (CasADi VM vs JIT vs numeric
+Pinocchio), IK solve times (cold and warm, per solver) against the analytic IK, and the
+tracking OCP's solve time and iterations for N = 50, 100, 200 with IPOPT and fatrop.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from collections.abc import Callable
+from functools import partial
+from typing import Any
+
+import numpy as np
+import pinocchio as pin
+
+import rcm_pin
+from ocp import IKProblem, SymbolicModel
+from ocp import paper000 as paper
+from ocp.models import example_robot_model
+from rcm_pin import analytic_ik, closed_form
+
+FRAMES = {"rcm_bevel": "tool", "panda": "panda_hand_tcp"}
+
+
+def _per_call(fun: Callable[[], object], n: int = 2000) -> float:
+    fun()
+    start = time.perf_counter()
+    for _ in range(n):
+        fun()
+    return 1e6 * (time.perf_counter() - start) / n  # [us]
+
+
+def bench_twin() -> None:
+    print("\n## Symbolic twin: time per evaluation [us] (mapped over 2000 states)\n")
+    print("| model | backend | compile [s] | placement | jacobian | rnea | M | FD |")
+    print("| --- | --- | --- | --- | --- | --- | --- | --- |")
+    for name, model in (
+        ("rcm_bevel", rcm_pin.load("rcm_bevel").model),
+        ("panda", example_robot_model("panda")),
+    ):
+        q, v = pin.neutral(model), np.ones(model.nv)
+        for jit in (False, True):
+            start = time.perf_counter()
+            sm = SymbolicModel(model, jit=jit)
+            funs = [
+                (sm.frame_placement(model.getFrameId(FRAMES[name])), (q,)),
+                (sm.frame_jacobian(model.getFrameId(FRAMES[name])), (q,)),
+                (sm.rnea(), (q, v, v)),
+                (sm.mass_matrix(), (q,)),
+                (sm.forward_dynamics(), (q, v, v)),
+            ]
+            for f, args in funs:
+                f(*args)
+            compile_s = time.perf_counter() - start
+            cells = [f"{_mapped_time(f, args):.2f}" for f, args in funs]
+            print(f"| {name} | {'JIT' if jit else 'VM'} | {compile_s:.1f} | {' | '.join(cells)} |")
+        numeric = " | ".join(f"{c:.2f}" for c in _pinocchio_times(model, FRAMES[name]))
+        print(f"| {name} | Pinocchio (Python call) | - | {numeric} |")
+
+
+def _mapped_time(f: Any, args: tuple[np.ndarray, ...], n: int = 2000) -> float:
+    """Time per evaluation [us] of ``f`` mapped over ``n`` copies of ``args``."""
+    mapped = f.map(n)
+    tiled = [np.tile(np.asarray(a).reshape(-1, 1), (1, n)) for a in args]
+    return _per_call(lambda: mapped(*tiled), 5) / n
+
+
+def _pinocchio_times(model: pin.Model, frame: str) -> list[float]:
+    """Per-call times [us] of the numeric counterparts (FD: not applicable, mimic)."""
+    data, fid = model.createData(), model.getFrameId(frame)
+    q, v = pin.neutral(model), np.ones(model.nv)
+    return [
+        _per_call(lambda: pin.updateFramePlacement(model, data, fid)),
+        _per_call(lambda: pin.computeFrameJacobian(model, data, q, fid)),
+        _per_call(lambda: pin.rnea(model, data, q, v, v)),
+        _per_call(lambda: pin.crba(model, data, q, pin.Convention.WORLD)),
+        float("nan"),
+    ]
+
+
+def _ik_cases(n: int, seed: int = 0) -> tuple[rcm_pin.Mechanism, np.ndarray, np.ndarray]:
+    mech = rcm_pin.load("rcm_bevel")
+    q = np.random.default_rng(seed).uniform(mech.lower, mech.upper, size=(n, 6))
+    return mech, q, closed_form.tool_pose(q)
+
+
+def bench_ik(n: int = 1000) -> None:
+    print(f"\n## IK of rcm_bevel's tool pose, {n} random reachable poses\n")
+    print("| solver | start | success | median iterations | median [ms] | p90 [ms] |")
+    print("| --- | --- | --- | --- | --- | --- |")
+    mech, q_true, poses = _ik_cases(n)
+    rng = np.random.default_rng(1)
+    scale = np.array([0.3, 0.3, 0.03, 0.3, 0.3, 0.3])
+    warm = np.clip(q_true + rng.uniform(-scale, scale, q_true.shape), mech.lower, mech.upper)
+    for solver, jit, count in (
+        ("lm", False, n),
+        ("lm", True, n),
+        ("sqpmethod", False, n // 10),
+        ("ipopt", False, n // 10),
+    ):
+        prob = IKProblem(mech.model, "tool", jit=jit, restarts=10)
+        for label, starts in (("warm (<= 0.3 rad)", warm), ("cold (mid-range)", None)):
+            times, iters, ok = [], [], 0
+            for k in range(count):
+                q0 = None if starts is None else mech.to_pin(starts[k])
+                start = time.perf_counter()
+                res = prob.solve(poses[k], q0, solver=solver, raise_on_failure=False)  # type: ignore[arg-type]
+                times.append(time.perf_counter() - start)
+                iters.append(res.iterations)
+                ok += res.success
+            name = f"{solver}{' (JIT)' if jit else ''}"
+            print(
+                f"| {name} | {label} | {ok / count:.1%} | {np.median(iters):.0f} | "
+                f"{1e3 * np.median(times):.3f} | {1e3 * np.percentile(times, 90):.3f} |"
+            )
+    one = [_per_call(partial(analytic_ik.ik_pose, poses[k]), 1) for k in range(200)]
+    start = time.perf_counter()
+    analytic_ik.ik_pose(poses)
+    batch = 1e6 * (time.perf_counter() - start) / n
+    print(
+        f"\nAnalytic IK (all 8 branches): {np.median(one):.1f} us per single-pose call, "
+        f"{batch:.2f} us per pose vectorised over {n} poses."
+    )
+
+
+def bench_tracking(jit: bool, sizes: list[int]) -> None:
+    print("\n## Tracking OCP, paper 000 reference, rcm_bevel (six DOF), Radau d = 3\n")
+    print(
+        "| N | solver | drive-limit constraints | build [s] | iterations | solve [ms] | "
+        "function evals [ms] | tracking error [m] |"
+    )
+    print("| --- | --- | --- | --- | --- | --- | --- | --- |")
+    configs = [("ipopt", False, False), ("fatrop", False, False), ("ipopt", True, False)]
+    if jit:
+        configs.append(("ipopt", True, True))
+    for n in sizes:
+        for solver, limits, use_jit in configs:
+            start = time.perf_counter()
+            ocp, mech = paper.build(n_intervals=n, solver=solver, drive_limits=limits, jit=use_jit)
+            build = time.perf_counter() - start
+            lim = mech.model.effortLimit.copy() if limits else None
+            res = min(
+                (paper.solve(ocp, mech, effort_limits=lim) for _ in range(3)),
+                key=lambda r: r.solve_time,
+            )
+            fun = sum(v for k, v in ocp.solver.stats().items() if k.startswith("t_wall_nlp"))
+            tag = f"{solver}{' JIT' if use_jit else ''}"
+            print(
+                f"| {n} | {tag} | {'yes' if limits else 'no'} | {build:.1f} | "
+                f"{res.iterations} | {1e3 * res.solve_time:.1f} | {1e3 * fun:.1f} | "
+                f"{res.tracking_error:.1e} |"
+            )
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--jit", action="store_true", help="also time JIT-compiled tracking")
+    parser.add_argument("--only", choices=("twin", "ik", "tracking"))
+    parser.add_argument("--poses", type=int, default=1000)
+    parser.add_argument("--sizes", type=int, nargs="+", default=[50, 100, 200])
+    args = parser.parse_args()
+    if args.only in (None, "twin"):
+        bench_twin()
+    if args.only in (None, "ik"):
+        bench_ik(args.poses)
+    if args.only in (None, "tracking"):
+        bench_tracking(args.jit, args.sizes)
+
+
+if __name__ == "__main__":
+    main()

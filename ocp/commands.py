@@ -1,0 +1,116 @@
+"""What ``rcm-pin ocp ik`` and ``rcm-pin ocp track`` run: JSON-able payloads and text.
+
+The CLI module (``rcm_pin.cli.ocp``) parses its arguments, calls :func:`ik_command` or
+:func:`track_command` and prints the payload with ``--json`` or the ``format_*`` text.
+Coordinates in payloads are the Mechanism coordinates (the papers' q1..qn).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+import rcm_pin
+from ocp import paper000 as paper
+from ocp.ik import IKProblem, Mode
+from rcm_pin.errors import InvalidInputError
+from rcm_pin.rotations import rpy_to_matrix
+
+
+def ik_command(
+    name: str,
+    xyz: ArrayLike,
+    rpy: ArrayLike | None = None,
+    *,
+    q0: ArrayLike | None = None,
+    solver: str = "auto",
+    restarts: int = 10,
+    xacro_args: dict[str, str] | None = None,
+) -> dict[str, Any]:
+    """Numerical IK of the tool frame: pose (``xyz`` and ``rpy`` = alpha, beta, gamma with
+    R = Rz(gamma) Ry(beta) Rx(alpha)) or position only (``rpy`` None)."""
+    mech = rcm_pin.load(name, **(xacro_args or {}))
+    p = np.asarray(xyz, dtype=float)
+    if p.shape != (3,):
+        raise InvalidInputError(f"xyz must be 3 numbers [m], got {xyz!r}")
+    mode: Mode = "position" if rpy is None else "pose"
+    target: np.ndarray = p
+    if rpy is not None:
+        target = np.eye(4)
+        target[:3, :3], target[:3, 3] = rpy_to_matrix(*np.asarray(rpy, dtype=float)), p
+    prob = IKProblem(mech.model, mech.tool_frame_id, mode=mode, restarts=restarts)
+    start = None if q0 is None else mech.to_pin(mech.check_q(np.asarray(q0), "q0"))
+    res = prob.solve(target, start, solver=solver)  # type: ignore[arg-type]
+    return {
+        "mechanism": mech.name, "mode": mode, "solver": res.solver, "status": res.status,
+        "success": res.success, "iterations": res.iterations,
+        "coordinates": list(mech.coordinate_names), "q": mech.from_pin(res.q),
+        "residual": res.residual_norm, "position_error": res.position_error,
+        "orientation_error": res.orientation_error,
+    }  # fmt: skip
+
+
+def format_ik(payload: dict[str, Any]) -> str:
+    """Human-readable text of an :func:`ik_command` payload."""
+    q = ", ".join(f"{n} = {v:.6g}" for n, v in zip(payload["coordinates"], payload["q"]))
+    return (
+        f"{payload['mechanism']} IK ({payload['mode']}, {payload['solver']}, "
+        f"{payload['status']}, {payload['iterations']} iterations)\n  {q}\n"
+        f"  position error {payload['position_error']:.2e} m, orientation error "
+        f"{payload['orientation_error']:.2e} rad"
+    )
+
+
+def track_command(
+    name: str = "rcm_bevel",
+    *,
+    n_intervals: int = 100,
+    solver: str = "ipopt",
+    limit_scale: float | None = None,
+    jit: bool = False,
+) -> dict[str, Any]:
+    """Paper 000's tracking OCP; ``limit_scale`` puts the q1..q3 drive limits at that
+    fraction of the analytic peak efforts (and locks the wrist), None: no drive limits."""
+    limited = limit_scale is not None
+    if limited and not 0.0 < float(limit_scale) <= 10.0:  # type: ignore[arg-type]
+        raise InvalidInputError(f"limit_scale must lie in (0, 10], got {limit_scale!r}")
+    ocp, mech = paper.build(
+        name, n_intervals, solver=solver, drive_limits=limited, lock_wrist=limited, jit=jit
+    )
+    peak = paper.peak_efforts(mech)
+    lim = None
+    if limited:
+        lim = np.full(mech.nq, np.inf)
+        lim[:3] = float(limit_scale) * peak[:3]  # type: ignore[arg-type]
+    res = paper.solve(ocp, mech, effort_limits=lim, raise_on_failure=False)
+    exact = paper.exact_solution(mech, res.t_colloc)
+    return {
+        "mechanism": mech.name, "n_intervals": n_intervals, "solver": res.solver,
+        "status": res.status, "success": res.success, "iterations": res.iterations,
+        "solve_time_s": res.solve_time, "tracking_error_m": res.tracking_error,
+        "tracking_rms_m": res.tracking_rms, "q3_upper_m": paper.Q3_UPPER,
+        "peak_efforts": mech.from_pin(peak),
+        "effort_limits": None if lim is None else mech.from_pin(lim),
+        "max_efforts": mech.from_pin(np.abs(res.tau).max(0)),
+        "effort_difference_to_exact": float(np.abs(res.tau - exact.tau).max()),
+    }  # fmt: skip
+
+
+def format_track(payload: dict[str, Any]) -> str:
+    """Human-readable text of a :func:`track_command` payload."""
+    lim = payload["effort_limits"]
+    limits = "none" if lim is None else ", ".join(f"{v:.4g}" for v in lim[:3]) + " (q1..q3)"
+    return (
+        f"{payload['mechanism']}: paper 000 tracking OCP, N = {payload['n_intervals']}, "
+        f"{payload['solver']} {payload['status']} in {payload['iterations']} iterations, "
+        f"{1e3 * payload['solve_time_s']:.1f} ms\n"
+        f"  q3 upper limit widened to {payload['q3_upper_m']} m; drive limits: {limits}\n"
+        f"  tracking error max {payload['tracking_error_m']:.3e} m, rms "
+        f"{payload['tracking_rms_m']:.3e} m; efforts differ from the exact solution by "
+        f"{payload['effort_difference_to_exact']:.3e}"
+    )
+
+
+__all__ = ["format_ik", "format_track", "ik_command", "track_command"]
