@@ -18,11 +18,8 @@ negated centre. Coordinates inside the scene are unaffected.
 
 from __future__ import annotations
 
-import contextlib
-import io
 import time
 import warnings
-from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -30,29 +27,18 @@ import pinocchio as pin
 
 with warnings.catch_warnings():  # meshcat imports pyzmq's deprecated zmq.eventloop.ioloop
     warnings.simplefilter("ignore", DeprecationWarning)
-    import meshcat
     import meshcat.geometry as mg
     from meshcat.animation import Animation
-    from pinocchio.visualize import MeshcatVisualizer
 
 from rcm_pin.errors import InvalidInputError
 from rcm_pin.kinematics import OUTPUT_LINK_FRAME
 from rcm_pin.mechanism import Mechanism
-from rcm_pin.viz_camera import FOV_DEG, box_corners, frame_points, meshcat_position, project
-from rcm_pin.viz_scene import SceneRecorder, colormap, hex_color
-
-OVERLAYS = "overlays"
-
-
-def _check_zmq_url(zmq_url: str) -> None:
-    host = zmq_url.removeprefix("tcp://").rsplit(":", 1)[0]
-    if not zmq_url.startswith("tcp://") or host not in {"127.0.0.1", "localhost"}:
-        raise InvalidInputError(
-            f"zmq_url {zmq_url!r} is not on this machine; valid: tcp://127.0.0.1:PORT"
-        )
+from rcm_pin.viz_base import OVERLAYS, MeshcatScene
+from rcm_pin.viz_camera import box_corners, frame_points, project
+from rcm_pin.viz_scene import colormap, hex_color
 
 
-class Viewer:
+class Viewer(MeshcatScene):
     """A Meshcat scene of one mechanism.
 
     Args:
@@ -74,37 +60,18 @@ class Viewer:
 
     def __init__(self, mech: Mechanism, *, server: bool = False, zmq_url: str | None = None,
                  snapshot_style: bool = False) -> None:  # fmt: skip
-        if zmq_url is not None:
-            _check_zmq_url(zmq_url)
         self.mech = mech
-        if zmq_url is not None or server:
-            with contextlib.redirect_stdout(io.StringIO()):  # meshcat prints the URL
-                self.vis = meshcat.Visualizer(zmq_url=zmq_url)
-        else:
-            self.vis = meshcat.Visualizer(window=SceneRecorder())
-        visual = pin.buildGeomFromUrdfString(mech.model, mech.urdf, pin.GeometryType.VISUAL)
-        self.viz = MeshcatVisualizer(mech.model, visual, visual)
-        self.viz.initViewer(viewer=self.vis)
-        self.viz.loadViewerModel(rootNodeName="pinocchio")
+        self._open(mech.model, mech.urdf, server=server, zmq_url=zmq_url,
+                   snapshot_style=snapshot_style)  # fmt: skip
         self._axis_frame = (
             mech.frame_id(OUTPUT_LINK_FRAME) if mech.model.existFrame(OUTPUT_LINK_FRAME) else -1
         )
         self._axis_shown = False
-        if snapshot_style:
-            self.vis["/Background"].set_property("top_color", [1.0, 1.0, 1.0])
-            self.vis["/Background"].set_property("bottom_color", [1.0, 1.0, 1.0])
-            self.vis["/Grid"].set_property("visible", False)
-            self.vis["/Axes"].set_property("visible", False)
         self.q = np.clip(np.zeros(mech.nq), mech.lower, mech.upper)
         self.display(self.q)
         self.fit_camera()
 
     # ------------------------------------------------------------------ state
-    @property
-    def url(self) -> str | None:
-        """Web address of the live viewer (None for an in-memory scene)."""
-        return None if isinstance(self.vis.window, SceneRecorder) else self.vis.url()
-
     def display(self, q: np.ndarray) -> None:
         """Place every body (mimic bodies included) at configuration ``q``."""
         self.q = self.mech.check_q(q).copy()
@@ -270,53 +237,6 @@ class Viewer:
             corners.append(box_corners(box.min_, box.max_, T))
         self.set_camera(*frame_points(np.vstack(corners), direction, margin))
 
-    def set_camera(self, eye: np.ndarray, target: np.ndarray) -> None:
-        """Place the camera at ``eye`` looking at ``target`` (world coordinates [m])."""
-        eye, target = np.asarray(eye, dtype=float), np.asarray(target, dtype=float)
-        self.camera = (eye, target)
-        shift = pin.SE3(np.eye(3), -target).homogeneous
-        for path in ("/meshcat", "/Grid", "/Axes"):
-            self.vis[path].set_transform(shift)
-        camera = self.vis["/Cameras/default/rotated/<object>"]
-        camera.set_property("fov", FOV_DEG)
-        camera.set_property("position", meshcat_position(eye, target))
-
     def project(self, points: np.ndarray, size: tuple[int, int] = (800, 600)) -> np.ndarray:
         """Pixel coordinates (N, 2) (column, row) of world points in a picture of ``size``."""
         return project(*self.camera, points, size)
-
-    # ---------------------------------------------------------------- export
-    def static_html(self, controls: bool = True) -> str:
-        """The scene (and animation) as one self-contained HTML page.
-
-        Args:
-            controls: keep Meshcat's "Open Controls" panel (False hides it, for pictures).
-        """
-        html = str(self.vis.static_html())
-        if not controls:
-            html = html.replace("</body>", "<style>.dg {display: none !important;}</style></body>")
-        return html
-
-    def save_html(self, path: str | Path, controls: bool = True) -> Path:
-        """Write :meth:`static_html` to ``path``; returns the path."""
-        path = Path(path)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(self.static_html(controls))
-        return path
-
-    def close(self) -> None:
-        """Stop the server process this viewer started (no-op for in-memory scenes)."""
-        window = self.vis.window
-        proc = getattr(window, "server_proc", None)
-        if proc is not None and proc.poll() is None:
-            proc.kill()
-            proc.wait()
-        socket = getattr(window, "zmq_socket", None)
-        if socket is not None:
-            socket.close(linger=0)
-
-    def __enter__(self) -> Viewer:
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        self.close()

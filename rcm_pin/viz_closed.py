@@ -14,8 +14,6 @@ and export to the same self-contained static HTML as :class:`rcm_pin.viz.Viewer`
 
 from __future__ import annotations
 
-import contextlib
-import io
 import warnings
 from pathlib import Path
 from typing import Any
@@ -25,23 +23,21 @@ import pinocchio as pin
 
 with warnings.catch_warnings():  # meshcat imports pyzmq's deprecated zmq.eventloop.ioloop
     warnings.simplefilter("ignore", DeprecationWarning)
-    import meshcat
     import meshcat.geometry as mg
     from meshcat.animation import Animation
-    from pinocchio.visualize import MeshcatVisualizer
 
 from rcm_pin.closed_loop.core import ClosedMechanism
 from rcm_pin.closed_loop.position import direct_position
 from rcm_pin.errors import InvalidInputError
-from rcm_pin.viz_camera import FOV_DEG, box_corners, frame_points, meshcat_position
-from rcm_pin.viz_scene import SceneRecorder, hex_color
+from rcm_pin.viz_base import OVERLAYS, MeshcatScene
+from rcm_pin.viz_camera import box_corners, frame_points
+from rcm_pin.viz_scene import hex_color
 
-OVERLAYS = "overlays"
 #: Camera direction for planar mechanisms (mostly from above the xy plane).
 PLANAR_VIEW = np.array([0.2, -0.7, 1.0])
 
 
-class ClosedViewer:
+class ClosedViewer(MeshcatScene):
     """A Meshcat scene of one closed mechanism, displayed assembled.
 
     Args:
@@ -65,20 +61,7 @@ class ClosedViewer:
         self.mech = mech
         if urdf is None:
             urdf = render_closed(mech.name, **(xacro_args or {}))[0]
-        if server:
-            with contextlib.redirect_stdout(io.StringIO()):  # meshcat prints the URL
-                self.vis = meshcat.Visualizer()
-        else:
-            self.vis = meshcat.Visualizer(window=SceneRecorder())
-        visual = pin.buildGeomFromUrdfString(mech.model, urdf, pin.GeometryType.VISUAL)
-        self.viz = MeshcatVisualizer(mech.model, visual, visual)
-        self.viz.initViewer(viewer=self.vis)
-        self.viz.loadViewerModel(rootNodeName="pinocchio")
-        if snapshot_style:
-            self.vis["/Background"].set_property("top_color", [1.0, 1.0, 1.0])
-            self.vis["/Background"].set_property("bottom_color", [1.0, 1.0, 1.0])
-            self.vis["/Grid"].set_property("visible", False)
-            self.vis["/Axes"].set_property("visible", False)
+        self._open(mech.model, urdf, server=server, zmq_url=None, snapshot_style=snapshot_style)
         self._markers()
         first = direct_position_home(mech)
         self.q, self.q_drives, self.assembly = first, first[mech.idx_driven], "home"
@@ -86,11 +69,6 @@ class ClosedViewer:
         self.fit_camera()
 
     # ------------------------------------------------------------------ state
-    @property
-    def url(self) -> str | None:
-        """Web address of the live viewer (None for an in-memory scene)."""
-        return None if isinstance(self.vis.window, SceneRecorder) else self.vis.url()
-
     def display(self, q_drives: np.ndarray, assembly: int = 0) -> np.ndarray:
         """Solve the direct position problem for the drives and show assembly mode ``assembly``.
 
@@ -215,42 +193,7 @@ class ClosedViewer:
         view = PLANAR_VIEW if self.mech.plane_normal is not None else None
         eye, target = frame_points(np.vstack(corners), direction if direction is not None else view,
                                    margin)  # fmt: skip
-        self.camera = (eye, target)
-        shift = pin.SE3(np.eye(3), -target).homogeneous
-        for path in ("/meshcat", "/Grid", "/Axes"):
-            self.vis[path].set_transform(shift)
-        camera = self.vis["/Cameras/default/rotated/<object>"]
-        camera.set_property("fov", FOV_DEG)
-        camera.set_property("position", meshcat_position(eye, target))
-
-    # ---------------------------------------------------------------- export
-    def static_html(self, controls: bool = True) -> str:
-        """The scene (and animation) as one self-contained HTML page."""
-        html = str(self.vis.static_html())
-        if not controls:
-            html = html.replace("</body>", "<style>.dg {display: none !important;}</style></body>")
-        return html
-
-    def save_html(self, path: str | Path, controls: bool = True) -> Path:
-        """Write :meth:`static_html` to ``path``; returns the path."""
-        path = Path(path)
-        path.parent.mkdir(parents=True, exist_ok=True)
-        path.write_text(self.static_html(controls))
-        return path
-
-    def close(self) -> None:
-        """Stop the server process this viewer started (no-op for in-memory scenes)."""
-        window = self.vis.window
-        proc = getattr(window, "server_proc", None)
-        if proc is not None and proc.poll() is None:
-            proc.kill()
-            proc.wait()
-
-    def __enter__(self) -> ClosedViewer:
-        return self
-
-    def __exit__(self, *exc: object) -> None:
-        self.close()
+        self.set_camera(eye, target)
 
 
 def direct_position_home(mech: ClosedMechanism) -> np.ndarray:
