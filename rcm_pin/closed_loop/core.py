@@ -25,6 +25,7 @@ closure rows and k = dim q_a, the planar mechanisms here have n = m + k joints.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
 
@@ -107,6 +108,7 @@ class ClosedMechanism:
     out_rows: np.ndarray = field(init=False, repr=False)
     _frame_ids: tuple[tuple[int, int], ...] = field(init=False, repr=False)
     _all_3d: bool = field(init=False, repr=False)
+    _row_index: tuple[np.ndarray, ...] = field(init=False, repr=False)
 
     def __post_init__(self) -> None:
         object.__setattr__(self, "idx_driven", self.joint_indices(self.driven))
@@ -118,6 +120,8 @@ class ClosedMechanism:
         ids = tuple((self.frame_id(c.frame_a), self.frame_id(c.frame_b)) for c in self.closures)
         object.__setattr__(self, "_frame_ids", ids)
         object.__setattr__(self, "_all_3d", all(c.kind == "3d" for c in self.closures))
+        rows = tuple(np.array(c.rows, dtype=int) for c in self.closures)
+        object.__setattr__(self, "_row_index", rows)
         object.__setattr__(self, "out_rows", np.array([_COORD_ROWS[c] for c in self.output_coords]))
         if self.n_constraints + self.dof != self.model.nv:
             raise InvalidInputError(
@@ -210,12 +214,13 @@ class ClosedMechanism:
         model, data = self.model, self.data
         pin.computeJointJacobians(model, data, q)
         es, js = [], []
-        for c, (fa, fb) in zip(self.closures, self._frame_ids, strict=True):
+        lwa = pin.LOCAL_WORLD_ALIGNED
+        for rows, (fa, fb) in zip(self._row_index, self._frame_ids, strict=True):
             oMa = pin.updateFramePlacement(model, data, fa)
             oMb = pin.updateFramePlacement(model, data, fb)
-            ja = pin.getFrameJacobian(model, data, fa, pin.LOCAL_WORLD_ALIGNED)
-            jb = pin.getFrameJacobian(model, data, fb, pin.LOCAL_WORLD_ALIGNED)
-            rt = oMa.rotation.T[list(c.rows)]
+            ja = pin.getFrameJacobian(model, data, fa, lwa)
+            jb = pin.getFrameJacobian(model, data, fb, lwa)
+            rt = oMa.rotation.T[rows]
             es.append(rt @ (oMa.translation - oMb.translation))
             js.append(rt @ (ja[:3] - jb[:3]))
         return np.concatenate(es), np.vstack(js)
@@ -291,20 +296,21 @@ class ClosedMechanism:
         res = np.inf
         for it in range(max_iter + 1):
             e, jac = self.residual_and_jacobian(q)
-            res = float(np.linalg.norm(e))
+            res = math.sqrt(float(e @ e))
             if res < RESIDUAL_TOL:
                 q[self.idx_passive] = wrap(q[self.idx_passive])
                 return q, it, res
             jp = jac[:, self.idx_passive]
             try:
                 step = -np.linalg.solve(jp, e)
-                ok = bool(np.all(np.isfinite(step))) and float(np.max(np.abs(step))) < 1e3
+                peak = float(np.abs(step).max())  # NaN when the solve blew up
+                ok = peak < 1e3
             except np.linalg.LinAlgError:
                 ok = False
             if not ok:
                 mu = 1e-6 + res
                 step = -np.linalg.solve(jp.T @ jp + mu * np.eye(jp.shape[1]), jp.T @ e)
-            peak = np.max(np.abs(step))
+                peak = float(np.abs(step).max())
             if peak > max_step:
                 step *= max_step / peak
             q[self.idx_passive] += step
