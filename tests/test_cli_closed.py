@@ -87,6 +87,14 @@ def test_workspace_areas(capsys, tmp_path):
     assert code == 0 and out["total_area"] == out["constant_orientation_area"] > 0.1
 
 
+def test_simulate_planar_3rrr(capsys, tmp_path):
+    argv = ["simulate", "planar_3rrr", "--duration", "0.4", "--plot", str(tmp_path)]
+    code, out = _json(capsys, argv)
+    assert code == 0 and out["max_closure_residual"] < 1e-9
+    assert out["max_deviation_from_error_dynamics"] < 1e-6
+    assert (tmp_path / "planar_3rrr_tracking.png").stat().st_size > 5000
+
+
 def test_simulate_five_bar(capsys, tmp_path):
     code, out = _json(capsys, ["simulate", "five_bar", "--plot", str(tmp_path)])
     (run,) = out["runs"]
@@ -162,10 +170,14 @@ def test_view_closed_html(capsys, tmp_path):
             "phi range 1.0,0.0; valid: lo <= hi, finite [rad]",
         ),
         (
-            ["simulate", "planar_3rrr"],
+            ["simulate", "planar_3rrr", "--tau-zeta=-1,1"],
             "InvalidInputError",
-            "simulate has no closed-loop simulation for planar_3rrr; valid closed mechanisms: "
-            "five_bar (serial: rcm_bevel, rcm_bevel_4dof, rcm_belt)",
+            "--tau-zeta -1,1 is invalid; valid: tau > 0 [s], zeta > 0",
+        ),
+        (
+            ["simulate", "planar_3rrr", "--switching"],
+            "InvalidInputError",
+            "--switching applies to five_bar only, not planar_3rrr",
         ),
         (
             ["simulate", "five_bar", "--tau-max", "0"],

@@ -120,8 +120,8 @@ class ClosedMechanism:
         ids = tuple((self.frame_id(c.frame_a), self.frame_id(c.frame_b)) for c in self.closures)
         object.__setattr__(self, "_frame_ids", ids)
         object.__setattr__(self, "_all_3d", all(c.kind == "3d" for c in self.closures))
-        rows = tuple(np.array(c.rows, dtype=int) for c in self.closures)
-        object.__setattr__(self, "_row_index", rows)
+        row_index = tuple(np.array(c.rows, dtype=int) for c in self.closures)
+        object.__setattr__(self, "_row_index", row_index)
         object.__setattr__(self, "out_rows", np.array([_COORD_ROWS[c] for c in self.output_coords]))
         if self.n_constraints + self.dof != self.model.nv:
             raise InvalidInputError(
