@@ -5,12 +5,16 @@ from __future__ import annotations
 import argparse
 import time
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from rcm_pin.cli._common import add_common, emit, fmt, parse_vector, parse_xacro_args
 from rcm_pin.errors import InvalidInputError
 from rcm_pin.mechanism import load
+
+if TYPE_CHECKING:
+    from rcm_pin.viz_base import MeshcatScene
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -85,12 +89,7 @@ def cmd_view(args: argparse.Namespace) -> int:
         viewer.fit_camera()
         if traj is not None:
             viewer.animate(traj, args.dt, repetitions=1 if not live else 1000)
-        if args.html is not None:
-            payload["html"] = str(viewer.save_html(args.html))
-        if live:
-            payload["url"] = viewer.url
-            emit(args, payload, f"Meshcat viewer of {mech.name} at {viewer.url} (Ctrl-C stops)")
-            _serve(args.seconds)
+        if _publish(viewer, args, payload, mech.name):
             return 0
     if args.png is not None:
         payload["png"] = str(args.png)
@@ -129,12 +128,7 @@ def _closed_view(args: argparse.Namespace) -> int:
             drives = _load_traj(args.traj, mech.dof)
             path = direct_position_path(mech, drives, q_full)
             viewer.animate(path, args.dt, repetitions=1 if not live else 1000)
-        if args.html is not None:
-            payload["html"] = str(viewer.save_html(args.html))
-        if live:
-            payload["url"] = viewer.url
-            emit(args, payload, f"Meshcat viewer of {mech.name} at {viewer.url} (Ctrl-C stops)")
-            _serve(args.seconds)
+        if _publish(viewer, args, payload, mech.name):
             return 0
         if args.png is not None:
             viewer.display_full(q_full)
@@ -156,3 +150,19 @@ def _serve(seconds: float | None) -> None:
             time.sleep(0.2)
     except KeyboardInterrupt:
         pass
+
+
+def _publish(viewer: MeshcatScene, args: argparse.Namespace, payload: dict, name: str) -> bool:
+    """Write ``--html``; with a live viewer print its address and serve until stopped.
+
+    Returns:
+        True when it served a live viewer (the command is done).
+    """
+    if args.html is not None:
+        payload["html"] = str(viewer.save_html(args.html))
+    if viewer.url is None:
+        return False
+    payload["url"] = viewer.url
+    emit(args, payload, f"Meshcat viewer of {name} at {viewer.url} (Ctrl-C stops)")
+    _serve(args.seconds)
+    return True
