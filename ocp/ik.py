@@ -246,10 +246,13 @@ class IKProblem:
         )
 
     def _failure(self, r: IKResult) -> Exception:
+        orientation = (
+            f", orientation error {r.orientation_error:.3g} rad" if self.mode == "pose" else ""
+        )
         msg = (
             f"IK of frame {self.sm.frames[self.fid].name!r} ({r.solver}, {r.status}, "
-            f"{r.iterations} it): residual {r.residual_norm:.3g}, position error "
-            f"{r.position_error:.3g} m, orientation error {r.orientation_error:.3g} rad, "
+            f"{r.iterations} it): residual {r.residual_norm:.3g} > reach_tol "
+            f"{self.reach_tol:.0e}, position error {r.position_error:.3g} m{orientation}, "
             f"constraint violation {r.constraint_violation:.3g}"
         )
         stuck = r.status in (
@@ -260,7 +263,11 @@ class IKProblem:
             "Solved_To_Acceptable_Level",
         )
         err: Exception = (
-            UnreachablePoseError(f"unreachable target: {msg}")
+            UnreachablePoseError(
+                f"unreachable target: {msg}; the solver stopped at a stationary point, which "
+                "a local method cannot tell from a local minimum: valid targets lie in the "
+                "image of the joint limits (retry with restarts > 0 to rule out a local minimum)"
+            )
             if stuck
             else SolverError(f"IK solver failed: {msg}")
         )
