@@ -85,3 +85,12 @@ def test_bad_settings(m3, change, message):
 def test_five_bar_is_refused(m5):
     with pytest.raises(InvalidInputError, match=r"platform tracking needs output \(x, y, rz\)"):
         simulate_tracking(m5, SHORT)
+
+
+def test_simulated_torques_started_on_the_reference_equal_inverse_dynamics(m3):
+    """Second route on a whole run: no initial error, so the simulated drive torques are the
+    closed-loop inverse dynamics of the exact reference (inverse position + velocity + ID)."""
+    s = dataclasses.replace(SHORT, offset=(0.0, 0.0, 0.0), samples=11)
+    run = simulate_tracking(m3, s)
+    assert np.abs(run.error).max() < 1e-9
+    np.testing.assert_allclose(run.torques, reference_torques(m3, s, run.t), atol=1e-9)
