@@ -192,16 +192,14 @@ class Viewer(MeshcatScene):
             The ``meshcat.animation.Animation`` sent to the scene.
         """
         traj = self._trajectory(qs)
-        if not dt > 0.0:
-            raise InvalidInputError(f"dt = {dt}; valid: a positive time step [s]")
-        anim = Animation(default_framerate=max(1, round(1.0 / dt)))
-        for i, q in enumerate(traj):
-            frame = anim.at_frame(self.vis, i)
-            for node, T in self.placements(q).items():
-                frame[node].set_transform(T)
-            if self._axis_shown:
-                self.q = q
-                frame[f"{OVERLAYS}/tool_axis"].set_transform(self._axis_transform())
+
+        def tool_axis(q: np.ndarray) -> dict[str, np.ndarray]:
+            if not self._axis_shown:
+                return {}
+            self.q = q  # _axis_transform reads the configuration shown
+            return {"tool_axis": self._axis_transform()}
+
+        anim = self._record_animation(traj, dt, tool_axis)
         self.display(traj[0])
         self.vis.set_animation(anim, play=play, repetitions=repetitions)
         return anim

@@ -12,6 +12,7 @@ from __future__ import annotations
 import contextlib
 import io
 import warnings
+from collections.abc import Callable
 from pathlib import Path
 from typing import Any, TypeVar
 
@@ -21,6 +22,7 @@ import pinocchio as pin
 with warnings.catch_warnings():  # meshcat imports pyzmq's deprecated zmq.eventloop.ioloop
     warnings.simplefilter("ignore", DeprecationWarning)
     import meshcat
+    from meshcat.animation import Animation
     from pinocchio.visualize import MeshcatVisualizer
 
 from rcm_pin.errors import InvalidInputError
@@ -83,6 +85,35 @@ class MeshcatScene:
     def url(self) -> str | None:
         """Web address of the live viewer (None for an in-memory scene)."""
         return None if isinstance(self.vis.window, SceneRecorder) else self.vis.url()
+
+    # ---------------------------------------------------------------- motion
+    def placements(self, q: np.ndarray) -> dict[str, np.ndarray]:
+        """World placement (4x4) of each visual node at ``q`` (defined by subclasses)."""
+        raise NotImplementedError
+
+    def _record_animation(
+        self, configs: np.ndarray, dt: float, overlays: Callable[[np.ndarray], dict[str, Any]]
+    ) -> Animation:
+        """One animation frame per configuration: every body, plus the overlay transforms.
+
+        Args:
+            configs: (N, n) configurations, in the form :meth:`placements` takes.
+            dt: time between frames [s].
+            overlays: q -> {overlay name: 4x4 transform} for the nodes under ``OVERLAYS``.
+
+        Raises:
+            InvalidInputError: ``dt`` not positive.
+        """
+        if not dt > 0.0:
+            raise InvalidInputError(f"dt = {dt}; valid: a positive time step [s]")
+        anim = Animation(default_framerate=max(1, round(1.0 / dt)))
+        for i, q in enumerate(configs):
+            frame = anim.at_frame(self.vis, i)
+            for node, T in self.placements(q).items():
+                frame[node].set_transform(T)
+            for name, T in overlays(q).items():
+                frame[f"{OVERLAYS}/{name}"].set_transform(T)
+        return anim
 
     # ---------------------------------------------------------------- camera
     def set_camera(self, eye: np.ndarray, target: np.ndarray) -> None:

@@ -167,15 +167,7 @@ class ClosedViewer(MeshcatScene):
             raise InvalidInputError(
                 f"trajectory has shape {arr.shape}; valid: (N, {self.mech.model.nq}) finite values"
             )
-        if not dt > 0.0:
-            raise InvalidInputError(f"dt = {dt}; valid: a positive time step [s]")
-        anim = Animation(default_framerate=max(1, round(1.0 / dt)))
-        for i, q in enumerate(arr):
-            frame = anim.at_frame(self.vis, i)
-            for node, T in self.placements(q).items():
-                frame[node].set_transform(T)
-            for name, T in self._marker_transforms(q).items():
-                frame[f"{OVERLAYS}/{name}"].set_transform(T)
+        anim = self._record_animation(arr, dt, self._marker_transforms)
         self.display_full(arr[0])
         self.vis.set_animation(anim, play=play, repetitions=repetitions)
         return anim
