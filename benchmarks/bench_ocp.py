@@ -2,11 +2,13 @@
 
     python benchmarks/bench_ocp.py            # twin, IK, tracking (about 2 min)
     python benchmarks/bench_ocp.py --jit      # also JIT-compiled tracking (compiles ~1 min)
-    python benchmarks/bench_ocp.py --only ik  # one part: twin | ik | tracking
+    python benchmarks/bench_ocp.py --only ik  # one part: twin | ik | closed | tracking
 
 Prints markdown tables: per-call times of the symbolic twin (CasADi VM vs JIT vs numeric
-Pinocchio), IK solve times (cold and warm, per solver) against the analytic IK, and the
-tracking OCP's solve time and iterations for N = 50, 100, 200 with IPOPT and fatrop.
+Pinocchio), IK solve times (cold and warm, per solver) against the analytic IK, the IK of
+the closed mechanisms' outputs (closures as constraints) against ``rcm_pin.inverse``, and
+the tracking OCP's solve time and iterations for N = 50, 100, 200 with IPOPT and fatrop.
+Models come from the catalogue (``rcm_pin.load``; panda from example-robot-data).
 """
 
 from __future__ import annotations
@@ -23,10 +25,10 @@ import pinocchio as pin
 import rcm_pin
 from ocp import IKProblem, SymbolicModel
 from ocp import paper000 as paper
-from ocp.models import example_robot_model
-from rcm_pin import analytic_ik, closed_form
+from rcm_pin.mechanisms.rcm import analytic_ik, closed_form
 
-FRAMES = {"rcm_bevel": "tool", "panda": "panda_hand_tcp"}
+#: Closed mechanisms and an output target of each (x, y, rz / x, y / rz).
+CLOSED_TARGETS = {"planar_3rrr": [0.01, 0.02, 0.1], "five_bar": [0.02, 0.25], "four_bar": [1.0]}
 
 
 def _per_call(fun: Callable[[], object], n: int = 2000) -> float:
@@ -41,17 +43,16 @@ def bench_twin() -> None:
     print("\n## Symbolic twin: time per evaluation [us] (mapped over 2000 states)\n")
     print("| model | backend | compile [s] | placement | jacobian | rnea | M | FD |")
     print("| --- | --- | --- | --- | --- | --- | --- | --- |")
-    for name, model in (
-        ("rcm_bevel", rcm_pin.load("rcm_bevel").model),
-        ("panda", example_robot_model("panda")),
-    ):
+    for name in ("rcm_bevel", "panda"):
+        mech = rcm_pin.load(name)
+        model, fid = mech.model, mech.tool_frame_id
         q, v = pin.neutral(model), np.ones(model.nv)
         for jit in (False, True):
             start = time.perf_counter()
             sm = SymbolicModel(model, jit=jit)
             funs = [
-                (sm.frame_placement(model.getFrameId(FRAMES[name])), (q,)),
-                (sm.frame_jacobian(model.getFrameId(FRAMES[name])), (q,)),
+                (sm.frame_placement(fid), (q,)),
+                (sm.frame_jacobian(fid), (q,)),
                 (sm.rnea(), (q, v, v)),
                 (sm.mass_matrix(), (q,)),
                 (sm.forward_dynamics(), (q, v, v)),
@@ -61,7 +62,7 @@ def bench_twin() -> None:
             compile_s = time.perf_counter() - start
             cells = [f"{_mapped_time(f, args):.2f}" for f, args in funs]
             print(f"| {name} | {'JIT' if jit else 'VM'} | {compile_s:.1f} | {' | '.join(cells)} |")
-        numeric = " | ".join(f"{c:.2f}" for c in _pinocchio_times(model, FRAMES[name]))
+        numeric = " | ".join(f"{c:.2f}" for c in _pinocchio_times(model, fid))
         print(f"| {name} | Pinocchio (Python call) | - | {numeric} |")
 
 
@@ -72,9 +73,9 @@ def _mapped_time(f: Any, args: tuple[np.ndarray, ...], n: int = 2000) -> float:
     return _per_call(lambda: mapped(*tiled), 5) / n
 
 
-def _pinocchio_times(model: pin.Model, frame: str) -> list[float]:
+def _pinocchio_times(model: pin.Model, fid: int) -> list[float]:
     """Per-call times [us] of the numeric counterparts (FD: not applicable, mimic)."""
-    data, fid = model.createData(), model.getFrameId(frame)
+    data = model.createData()
     q, v = pin.neutral(model), np.ones(model.nv)
     return [
         _per_call(lambda: pin.updateFramePlacement(model, data, fid)),
@@ -130,6 +131,32 @@ def bench_ik(n: int = 1000) -> None:
     )
 
 
+def bench_closed(n: int = 100) -> None:
+    print(f"\n## IK of closed mechanisms' outputs, IPOPT, {n} random starts\n")
+    print("| mechanism | working modes | found | success | median iterations | median [ms] |")
+    print("| --- | --- | --- | --- | --- | --- |")
+    for name, target in CLOSED_TARGETS.items():
+        mech = rcm_pin.load(name)
+        modes = rcm_pin.inverse(mech, target).solutions
+        prob = IKProblem(mech, seed=0)
+        found, times, iters, ok = set(), [], [], 0
+        for _ in range(n):
+            q0 = prob.random_configuration()
+            start = time.perf_counter()
+            res = prob.solve(target, q0, raise_on_failure=False)
+            times.append(time.perf_counter() - start)
+            iters.append(res.iterations)
+            if res.success:
+                ok += 1
+                d = [np.abs(np.angle(np.exp(1j * (mech.from_pin(res.q) - s.q)))).max()
+                     for s in modes]  # fmt: skip
+                found.add(modes[int(np.argmin(d))].mode)
+        print(
+            f"| {name} | {len(modes)} | {len(found)} | {ok / n:.0%} | {np.median(iters):.0f} | "
+            f"{1e3 * np.median(times):.2f} |"
+        )
+
+
 def bench_tracking(jit: bool, sizes: list[int]) -> None:
     print("\n## Tracking OCP, paper 000 reference, rcm_bevel (six DOF), Radau d = 3\n")
     print(
@@ -162,7 +189,7 @@ def bench_tracking(jit: bool, sizes: list[int]) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--jit", action="store_true", help="also time JIT-compiled tracking")
-    parser.add_argument("--only", choices=("twin", "ik", "tracking"))
+    parser.add_argument("--only", choices=("twin", "ik", "closed", "tracking"))
     parser.add_argument("--poses", type=int, default=1000)
     parser.add_argument("--sizes", type=int, nargs="+", default=[50, 100, 200])
     args = parser.parse_args()
@@ -170,6 +197,8 @@ def main() -> None:
         bench_twin()
     if args.only in (None, "ik"):
         bench_ik(args.poses)
+    if args.only in (None, "closed"):
+        bench_closed()
     if args.only in (None, "tracking"):
         bench_tracking(args.jit, args.sizes)
 

@@ -21,17 +21,67 @@ from rcm_pin.rotations import rpy_to_matrix
 
 def ik_command(
     name: str,
-    xyz: ArrayLike,
+    xyz: ArrayLike | None = None,
     rpy: ArrayLike | None = None,
     *,
+    pose: ArrayLike | None = None,
     q0: ArrayLike | None = None,
     solver: str = "auto",
     restarts: int = 10,
     xacro_args: dict[str, str] | None = None,
 ) -> dict[str, Any]:
-    """Numerical IK of the tool frame: pose (``xyz`` and ``rpy`` = alpha, beta, gamma with
-    R = Rz(gamma) Ry(beta) Rx(alpha)) or position only (``rpy`` None)."""
+    """Numerical IK of any catalogue mechanism (or URDF path).
+
+    Serial: the tool frame, pose (``xyz`` and ``rpy`` = alpha, beta, gamma with
+    R = Rz(gamma) Ry(beta) Rx(alpha)) or position only (``rpy`` None). Closed: ``pose``,
+    the values of the output coordinates (``mech.output``, e.g. x, y, rz of the 3-RRR
+    platform), with the loop closures as equality constraints; the closure residual is
+    checked again by Pinocchio.
+
+    Raises:
+        InvalidInputError: the wrong target kind for the mechanism, or malformed values.
+        UnreachablePoseError, SolverError: see :class:`ocp.ik.IKProblem`.
+    """
     mech = rcm_pin.load(name, **(xacro_args or {}))
+    prob, target = _problem(mech, xyz, rpy, pose, restarts)
+    start = None if q0 is None else mech.to_pin(mech.check_q(np.asarray(q0), "q0"))
+    res = prob.solve(target, start, solver=solver)  # type: ignore[arg-type]
+    out = {
+        "mechanism": mech.name, "mode": prob.mode, "solver": res.solver, "status": res.status,
+        "success": res.success, "iterations": res.iterations,
+        "coordinates": list(mech.coordinate_names), "q": mech.from_pin(res.q),
+        "residual": res.residual_norm, "position_error": res.position_error,
+        "orientation_error": res.orientation_error,
+    }  # fmt: skip
+    if mech.loops is not None:
+        out["output"] = mech.output.to_json(mech.output_value(res.q))
+        out["target"] = mech.output.to_json(target)
+        out["closure_residual"] = float(np.abs(mech.closure_residual(res.q)).max())
+    return out
+
+
+def _problem(
+    mech: rcm_pin.Mechanism,
+    xyz: ArrayLike | None,
+    rpy: ArrayLike | None,
+    pose: ArrayLike | None,
+    restarts: int,
+) -> tuple[IKProblem, np.ndarray]:
+    """The IK problem and target of ``ik_command`` (serial: tool pose or position)."""
+    if mech.loops is not None:
+        coords = ", ".join(mech.output.coords)
+        if pose is None or xyz is not None or rpy is not None:
+            raise InvalidInputError(
+                f"{mech.name} is a closed mechanism: give pose = its output coordinates "
+                f"({coords} of frame {mech.output.frame}); xyz / rpy are for serial ones"
+            )
+        prob = IKProblem(mech, restarts=restarts)
+        return prob, prob.target_vector(np.asarray(pose, dtype=float))
+    if pose is not None or xyz is None:
+        raise InvalidInputError(
+            f"{mech.name} is a serial mechanism: give xyz (tool-centre position [m]) and "
+            "optionally rpy; pose (output coordinates) is for closed mechanisms"
+        )
     p = np.asarray(xyz, dtype=float)
     if p.shape != (3,):
         raise InvalidInputError(f"xyz must be 3 numbers [m], got {xyz!r}")
@@ -40,31 +90,25 @@ def ik_command(
     if rpy is not None:
         target = np.eye(4)
         target[:3, :3], target[:3, 3] = rpy_to_matrix(*np.asarray(rpy, dtype=float)), p
-    prob = IKProblem(mech.model, mech.tool_frame_id, mode=mode, restarts=restarts)
-    start = None if q0 is None else mech.to_pin(mech.check_q(np.asarray(q0), "q0"))
-    res = prob.solve(target, start, solver=solver)  # type: ignore[arg-type]
-    return {
-        "mechanism": mech.name, "mode": mode, "solver": res.solver, "status": res.status,
-        "success": res.success, "iterations": res.iterations,
-        "coordinates": list(mech.coordinate_names), "q": mech.from_pin(res.q),
-        "residual": res.residual_norm, "position_error": res.position_error,
-        "orientation_error": res.orientation_error,
-    }  # fmt: skip
+    return IKProblem(mech, mode=mode, restarts=restarts), target
 
 
 def format_ik(payload: dict[str, Any]) -> str:
     """Human-readable text of an :func:`ik_command` payload."""
     q = ", ".join(f"{n} = {v:.6g}" for n, v in zip(payload["coordinates"], payload["q"]))
-    return (
+    text = (
         f"{payload['mechanism']} IK ({payload['mode']}, {payload['solver']}, "
         f"{payload['status']}, {payload['iterations']} iterations)\n  {q}\n"
         f"  position error {payload['position_error']:.2e} m, orientation error "
         f"{payload['orientation_error']:.2e} rad"
     )
+    if "closure_residual" in payload:
+        text += f", closure residual {payload['closure_residual']:.2e} (Pinocchio)"
+    return text
 
 
 def track_command(
-    name: str = "rcm_bevel",
+    name: str = paper.MECHANISM,
     *,
     n_intervals: int = 100,
     solver: str = "ipopt",

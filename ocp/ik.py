@@ -1,71 +1,67 @@
-"""Inverse kinematics of one frame as a nonlinear least-squares program.
+"""Inverse kinematics of one frame, or of a mechanism's output, as a nonlinear program.
 
 Variables ``q`` (Pinocchio order, box-bounded by the joint limits); objective
 
-    f(q) = 1/2 |r(q)|^2,   r = [w_p (p(q) - p_t);  w_o vec(R(q) - R_t)]   (pose)
-                           r = w_p (p(q) - p_t)                             (position)
+    f(q) = 1/2 |r(q)|^2        (r: :mod:`ocp.ik_residuals`, modes pose / position / output)
 
 (``|R - R_t|_F = 2 sqrt(2) sin(theta/2)``: smooth, zero exactly at the target);
-optional general constraints from :mod:`ocp.ik_constraints`. Solvers:
+optional general constraints from :mod:`ocp.ik_constraints`. The model is any
+:class:`rcm_pin.Mechanism` (default frame: its tool or output frame) or a ``pin.Model``
+with a frame. A closed Mechanism adds its loop closures as equality constraints
+``e(q) = 0`` (:mod:`ocp.closure`) on the full configuration of its cut-open tree, and its
+default mode is ``"output"``: the output coordinates (``mech.output``, e.g. x, y, rz of
+the 3-RRR platform); every solution is then one of its working modes. Solvers:
 
 * ``"lm"``: projected Levenberg-Marquardt (:mod:`ocp.ik_lm`), the default when only box
   constraints are present;
-* ``"ipopt"``: interior point, exact Hessian, the default with general constraints;
+* ``"ipopt"``: interior point, exact Hessian, the default with general constraints or
+  loop closures;
 * ``"sqpmethod"``: CasADi SQP (``qrqp``, exact Hessian convexified by eigenvalue
   clipping; ``regularize`` stalls on these problems).
 
-A target that leaves a residual above ``reach_tol`` at a stationary point raises
-:class:`~rcm_pin.errors.UnreachablePoseError`; a solver that stops for another reason
-raises :class:`~rcm_pin.errors.SolverError`. Both carry the :class:`IKResult` as
-``err.result`` (``raise_on_failure=False`` returns it instead).
+Failures raise typed errors carrying the :class:`IKResult` (:mod:`ocp.ik_result`;
+``raise_on_failure=False`` returns it instead).
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
 from typing import Any, Literal
 
 import casadi as ca
 import numpy as np
-import pinocchio as pin
 
 from ocp.buffered import BufferedFunction
+from ocp.closure import closure_expr
 from ocp.ik_constraints import Constraint, constraint_expr, violation
 from ocp.ik_lm import LevenbergMarquardt, build_lm_step
 from ocp.ik_nlp import NlpSolver
-from ocp.ik_targets import box, random_configuration, start_configuration, target_vector
-from ocp.symbolic import JIT_OPTIONS, SymbolicModel
-from rcm_pin.errors import InvalidInputError, SolverError, UnreachablePoseError
+from ocp.ik_residuals import Mode, output_residual, pose_residual
+from ocp.ik_result import IKResult, failure
+from ocp.ik_targets import (
+    box,
+    output_target,
+    random_configuration,
+    start_configuration,
+    target_vector,
+)
+from ocp.models import ModelSource, resolve
+from ocp.symbolic import JIT_OPTIONS
+from rcm_pin.errors import InvalidInputError
 
-Mode = Literal["pose", "position"]
 SolverName = Literal["auto", "lm", "ipopt", "sqpmethod"]
 
 
-@dataclass(frozen=True)
-class IKResult:
-    """Solution and diagnostics of one IK solve."""
-
-    q: np.ndarray  # Pinocchio configuration (nq,)
-    success: bool
-    status: str  # "converged", "stationary", "max_iter" or the NLP solver's status
-    solver: str  # "lm", "ipopt" or "sqpmethod"
-    iterations: int  # summed over the restarts
-    residual_norm: float  # |r(q)| (weighted)
-    position_error: float  # |p - p_t| [m]
-    orientation_error: float  # rotation angle between R and R_t [rad]; nan for position
-    constraint_violation: float  # general constraints (0 without)
-
-
 class IKProblem:
-    """IK of ``frame`` of a model; build once, :meth:`solve` for many targets."""
+    """IK of ``frame`` of a model, or of a Mechanism's output; build once, :meth:`solve`
+    for many targets."""
 
     def __init__(
         self,
-        model: pin.Model | SymbolicModel,
-        frame: str | int,
+        model: ModelSource,
+        frame: str | int | None = None,
         *,
-        mode: Mode = "pose",
+        mode: Mode | None = None,
         lower: np.ndarray | None = None,
         upper: np.ndarray | None = None,
         position_weight: float = 1.0,
@@ -78,18 +74,36 @@ class IKProblem:
         seed: int = 0,
         jit: bool = False,
     ) -> None:
-        if mode not in ("pose", "position"):
-            raise InvalidInputError(f"mode must be 'pose' or 'position', got {mode!r}")
-        self.sm = model if isinstance(model, SymbolicModel) else SymbolicModel(model)
-        self.fid, self.mode, self.constraints = self.sm.frame_id(frame), mode, tuple(constraints)
+        src = resolve(model, frame)
+        self.sm, self.fid, self.mechanism = src.sm, src.frame_id, src.mechanism
+        mech = self.mechanism
+        self.loops = None if mech is None else mech.loops
+        closed = self.loops is not None
+        self.mode: Mode = ("output" if closed else "pose") if mode is None else mode
+        if self.mode not in ("pose", "position", "output"):
+            raise InvalidInputError(f"mode must be 'pose', 'position' or 'output', got {mode!r}")
+        if self.mode == "output" and (mech is None or self.fid != mech.tool_frame_id):
+            raise InvalidInputError(
+                "mode='output' solves a Mechanism's output coordinates on its output frame; "
+                "valid: an rcm_pin.Mechanism and frame=None, or mode='pose' / 'position'"
+            )
+        self.constraints = tuple(constraints)
         self.tol, self.reach_tol, self.max_iter, self.jit = tol, reach_tol, max_iter, jit
         self.restarts, self._rng = int(restarts), np.random.default_rng(seed)
         self.lower, self.upper = box(self.sm, lower, upper)
-        q, target = ca.SX.sym("q", self.sm.nq), ca.SX.sym("target", 12)
+        self._home = None
+        if mech is not None and closed:  # a closed configuration: the default start
+            home = mech.family.configurations(mech).get("home")
+            self._home = None if home is None else mech.to_pin(home)
+        q = ca.SX.sym("q", self.sm.nq)
         p, rot = self.sm.frame_placement(self.fid)(q)
-        r = position_weight * (p - target[:3])
-        if mode == "pose":
-            r = ca.vertcat(r, orientation_weight * ca.vec(rot - ca.reshape(target[3:], 3, 3)))
+        wp, wo = position_weight, orientation_weight
+        res = (
+            output_residual(mech.output, p, rot, wp, wo)  # type: ignore[union-attr]
+            if self.mode == "output"
+            else pose_residual(self.mode, p, rot, wp, wo)
+        )
+        target, r = res.target, res.r
         dv = ca.SX.sym("dv", self.sm.nv)  # tangent map dq/dv at dv = 0 (continuous joints)
         tangent = ca.substitute(ca.jacobian(self.sm.integrate()(q, dv), dv), dv, 0 * dv)
         opts = dict(JIT_OPTIONS) if jit else {}
@@ -102,16 +116,23 @@ class IKProblem:
             ["J"],
         )
         exprs = [constraint_expr(c, *self._placement(c.frame, q, p, rot)) for c in self.constraints]
-        self._g = ca.vertcat(*[e.g for e in exprs]) if exprs else ca.SX(0, 1)
-        self._lbg = np.concatenate([e.lbg for e in exprs]) if exprs else np.zeros(0)
-        self._ubg = np.concatenate([e.ubg for e in exprs]) if exprs else np.zeros(0)
-        err_rot = ca.norm_fro(rot - ca.reshape(target[3:], 3, 3))
+        closure = closure_expr(self.sm, self.loops, q) if self.loops is not None else ca.SX(0, 1)
+        m = closure.shape[0]
+        self._g = ca.vertcat(*[e.g for e in exprs], closure)
+        self._lbg = np.concatenate([e.lbg for e in exprs] + [np.zeros(m)])
+        self._ubg = np.concatenate([e.ubg for e in exprs] + [np.zeros(m)])
         self.errors = ca.Function(
             "ik_errors",
             [q, target],
-            [ca.norm_2(p - target[:3]), err_rot, ca.norm_2(r), ca.densify(self._g)],
+            [
+                res.position_error,
+                res.orientation_error,
+                ca.norm_2(r),
+                ca.densify(self._g),
+                ca.norm_inf(closure) if m else ca.DM(0.0),
+            ],
             ["q", "target"],
-            ["pos_err", "rot_fro", "res", "g"],
+            ["pos_err", "angle", "res", "g", "closure"],
             opts,
         )
         self._errors = BufferedFunction(self.errors)
@@ -128,11 +149,14 @@ class IKProblem:
 
     @property
     def default_solver(self) -> str:
-        """``"lm"`` without general constraints, ``"ipopt"`` with them."""
-        return "lm" if not self.constraints else "ipopt"
+        """``"lm"`` with box constraints only, ``"ipopt"`` with general ones or closures."""
+        return "lm" if not self.constraints and self.loops is None else "ipopt"
 
     def target_vector(self, target: Any) -> np.ndarray:
-        """``[p_t; vec(R_t)]`` (12,) from a 4x4 pose, a ``pin.SE3`` or a 3-vector position."""
+        """The target parameter: ``[p_t; vec(R_t)]`` (12,) from a 4x4 pose, a ``pin.SE3``
+        or a 3-vector position; in output mode the output value vector."""
+        if self.mode == "output":
+            return output_target(self.mechanism.output, target)  # type: ignore[union-attr]
         return target_vector(target, self.mode)
 
     def random_configuration(self) -> np.ndarray:
@@ -193,18 +217,22 @@ class IKProblem:
         restarts: int | None = None,
         raise_on_failure: bool = True,
     ) -> IKResult:
-        """Solve for ``target`` from ``q0`` (default: the middle of the joint ranges).
+        """Solve for ``target`` from ``q0`` (Pinocchio order; default: the middle of the
+        joint ranges, for a closed Mechanism its closed ``home`` configuration).
 
         On failure, retry up to ``restarts`` times (default: the problem's) from uniformly
         random configurations within the limits; the best attempt is returned or raised.
         """
-        tvec, q_init = (
-            self.target_vector(target),
-            start_configuration(self.sm, q0, self.lower, self.upper),
-        )
+        tvec = self.target_vector(target)
+        if q0 is None and self._home is not None:
+            q0 = self._home
+        q_init = start_configuration(self.sm, q0, self.lower, self.upper)
         name = self.default_solver if solver == "auto" else solver
-        if name == "lm" and self.constraints:
-            raise InvalidInputError("solver 'lm' handles box constraints only; use 'ipopt'")
+        if name == "lm" and (self.constraints or self.loops is not None):
+            raise InvalidInputError(
+                "solver 'lm' handles box constraints only; general constraints and loop "
+                "closures need 'ipopt' or 'sqpmethod'"
+            )
         if name not in ("lm", "ipopt", "sqpmethod"):
             raise InvalidInputError(f"solver must be auto, lm, ipopt or sqpmethod, got {solver!r}")
         best: IKResult | None = None
@@ -223,16 +251,18 @@ class IKProblem:
                 break
         assert best is not None
         if raise_on_failure and not best.success:
-            raise self._failure(best)
+            raise failure(
+                best, self.sm.frames[self.fid].name, self.reach_tol, self.loops is not None
+            )
         return best
 
     def _result(
         self, q: np.ndarray, tvec: np.ndarray, status: str, name: str, iters: int, ok: bool
     ) -> IKResult:
-        pos_err, rot_fro, res, g = self._errors(q, tvec)
+        pos_err, angle, res, g, closure = self._errors(q, tvec)
         viol = violation(g, self._lbg, self._ubg)
-        rot = 2.0 * np.arcsin(min(1.0, rot_fro[0] / (2.0 * np.sqrt(2.0))))
         success = ok and res[0] <= self.reach_tol and viol <= 1e-8
+        success = success and closure[0] <= self.reach_tol
         return IKResult(
             q=q,
             success=bool(success),
@@ -241,46 +271,17 @@ class IKProblem:
             iterations=iters,
             residual_norm=float(res[0]),
             position_error=float(pos_err[0]),
-            orientation_error=float(rot) if self.mode == "pose" else float("nan"),
+            orientation_error=float(angle[0]),
             constraint_violation=viol,
+            closure_residual=float(closure[0]),
         )
 
-    def _failure(self, r: IKResult) -> Exception:
-        orientation = (
-            f", orientation error {r.orientation_error:.3g} rad" if self.mode == "pose" else ""
-        )
-        msg = (
-            f"IK of frame {self.sm.frames[self.fid].name!r} ({r.solver}, {r.status}, "
-            f"{r.iterations} it): residual {r.residual_norm:.3g} > reach_tol "
-            f"{self.reach_tol:.0e}, position error {r.position_error:.3g} m{orientation}, "
-            f"constraint violation {r.constraint_violation:.3g}"
-        )
-        stuck = r.status in (
-            "stationary",
-            "converged",
-            "Solve_Succeeded",
-            "Infeasible_Problem_Detected",
-            "Solved_To_Acceptable_Level",
-        )
-        err: Exception = (
-            UnreachablePoseError(
-                f"unreachable target: {msg}; the solver stopped at a stationary point, which "
-                "a local method cannot tell from a local minimum: valid targets lie in the "
-                "image of the joint limits (retry with restarts > 0 to rule out a local minimum)"
-            )
-            if stuck
-            else SolverError(f"IK solver failed: {msg}")
-        )
-        err.result = r  # type: ignore[attr-defined]
-        return err
 
-
-def solve_ik(
-    model: pin.Model | SymbolicModel, frame: str | int, target: Any, q0: Any = None, **options: Any
-) -> IKResult:
+def solve_ik(model: ModelSource, frame: str | int | None, target: Any, q0: Any = None,
+             **options: Any) -> IKResult:  # fmt: skip
     """One-shot :class:`IKProblem` ``(model, frame, **options).solve(target, q0)``."""
     solver = options.pop("solver", "auto")
     return IKProblem(model, frame, **options).solve(target, q0, solver=solver)
 
 
-__all__ = ["IKProblem", "IKResult", "solve_ik"]
+__all__ = ["IKProblem", "IKResult", "Mode", "solve_ik"]

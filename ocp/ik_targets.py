@@ -3,6 +3,8 @@
 A target is stored as the 12-vector ``[p_t; vec(R_t)]`` (column-major ``R_t``), the NLP
 parameter of every IK solver. Continuous joints (a ``(cos, sin)`` pair in ``q``) are never
 box-bounded; their start value is the angle 0 (mid-range) or a uniform angle (random).
+The ``"output"`` mode of a Mechanism takes the value vector of its output coordinates
+(:func:`output_target`).
 """
 
 from __future__ import annotations
@@ -14,6 +16,7 @@ import pinocchio as pin
 
 from ocp.symbolic import SymbolicModel
 from rcm_pin.errors import InvalidInputError
+from rcm_pin.model.output import POSE, Output
 
 _EYE = np.eye(3)
 
@@ -42,6 +45,24 @@ def target_vector(target: Any, mode: str) -> np.ndarray:
         f"target must be a (4, 4) pose, pin.SE3 or (3,) position in mode='position'; "
         f"got shape {t.shape} in mode={mode!r}"
     )
+
+
+def output_target(output: Output, target: Any) -> np.ndarray:
+    """The value vector (output.size,) of an output target: the output coordinates'
+    values (a rotation as 9 numbers row by row, or a 3x3), or, for a pose output
+    (x, y, z, rotation), also a 4x4 pose or a ``pin.SE3``.
+
+    Raises:
+        InvalidInputError: wrong length or non-finite entries.
+        NotARotationError: a rotation too far from SO(3).
+    """
+    if isinstance(target, pin.SE3):
+        target = target.homogeneous
+    if output.coords == POSE:
+        t = np.asarray(target, dtype=float)
+        if t.shape in ((4, 4), (3, 4)):
+            target = np.concatenate([t[:3, 3], t[:3, :3].reshape(9)])
+    return output.coerce(target)
 
 
 def _continuous(sm: SymbolicModel) -> list[int]:
@@ -83,4 +104,10 @@ def random_configuration(
     return q
 
 
-__all__ = ["box", "random_configuration", "start_configuration", "target_vector"]
+__all__ = [
+    "box",
+    "output_target",
+    "random_configuration",
+    "start_configuration",
+    "target_vector",
+]

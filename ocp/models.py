@@ -1,79 +1,122 @@
-"""Where ``ocp`` gets Pinocchio models: the repository's URDFs, the RCM mechanisms through
-``rcm_pin.load`` and two reference arms of example-robot-data.
+"""Where ``ocp`` gets its models: the catalogue, or any URDF by path.
 
-The ``example-robot-data`` 6.0 wheel installs the robot files but no Python module, so
-:func:`example_robot_model` reads its URDFs from the installed share directory (offline).
+Every catalogue entry (``rcm_pin.names()``: the RCM mechanisms, the closed planar ones,
+and the example-robot-data arms ``panda`` and ``ur5``) is a :class:`rcm_pin.Mechanism`
+from :func:`rcm_pin.load`; :class:`~ocp.ik.IKProblem` and
+:class:`~ocp.tracking.TrackingOCP` take it directly (tool frame, limits, loops) or any
+``pin.Model`` with a frame. Nothing here reads the repository: the catalogue finds its
+files through the installed packages.
 """
 
 from __future__ import annotations
 
-import importlib.metadata
+from dataclasses import dataclass
 from pathlib import Path
+from typing import Any, TypeAlias
 
 import pinocchio as pin
 
-from rcm_pin.errors import InvalidInputError, UnknownMechanismError
+import rcm_pin
+from ocp.symbolic import SymbolicModel
+from rcm_pin.catalog import ENTRIES
+from rcm_pin.errors import InvalidInputError
+from rcm_pin.model.mechanism import Mechanism
 
-REPO_ROOT = Path(__file__).resolve().parent.parent
-URDF_DIR = REPO_ROOT / "urdf"
-TEST_DATA_DIR = REPO_ROOT / "tests" / "data"
+#: What the CasADi layer accepts as a model.
+ModelSource: TypeAlias = pin.Model | SymbolicModel | Mechanism
 
-EXAMPLE_ROBOTS = {
-    "ur5": "ur_description/urdf/ur5_robot.urdf",
-    "panda": "panda_description/urdf/panda.urdf",
-}
-#: Tool frame used by the IK examples of each reference arm.
-EXAMPLE_TOOL_FRAMES = {"ur5": "tool0", "panda": "panda_hand_tcp"}
+
+@dataclass(frozen=True)
+class Resolved:
+    """A model source resolved to its symbolic twin and a frame.
+
+    Attributes:
+        sm: the symbolic twin of the (mimic) Pinocchio model.
+        frame_id: Pinocchio frame id of the frame the problem is about.
+        mechanism: the Mechanism when one was given (None for a bare model).
+    """
+
+    sm: SymbolicModel
+    frame_id: int
+    mechanism: Mechanism | None
+
+
+def load(name_or_path: str | Path, **kwargs: Any) -> Mechanism:
+    """:func:`rcm_pin.load`: a catalogue name (``"panda"``, ``"planar_3rrr"``, ...) or a
+    URDF / xacro path, with ``tool_frame``, ``rcm_frame`` and xacro arguments."""
+    return rcm_pin.load(name_or_path, **kwargs)
+
+
+def catalogue() -> tuple[str, ...]:
+    """Every catalogue name (serial and closed mechanisms, the reference arms)."""
+    return tuple(rcm_pin.names())
+
+
+def serial_names() -> tuple[str, ...]:
+    """The catalogue names of the serial mechanisms (no loop closures)."""
+    return tuple(e.name for e in ENTRIES if e.kind == "serial")
 
 
 def model_from_urdf(path: str | Path, mimic: bool = True) -> pin.Model:
-    """Parse a URDF file (mimic joints kept as ``JointModelMimic`` by default)."""
+    """Parse a URDF file (mimic joints kept as ``JointModelMimic`` by default).
+
+    Raises:
+        InvalidInputError: no file at ``path``.
+    """
     p = Path(path)
     if not p.is_file():
-        raise InvalidInputError(f"no URDF file at {p}")
+        raise InvalidInputError(f"no URDF file at {p}; valid: the path of an existing .urdf")
     return pin.buildModelFromUrdf(str(p), mimic=mimic)
 
 
-def example_robot_model(name: str, mimic: bool = True) -> pin.Model:
-    """``ur5`` or ``panda`` from the installed example-robot-data files."""
-    if name not in EXAMPLE_ROBOTS:
-        raise UnknownMechanismError(
-            f"unknown example robot {name!r}; valid: {', '.join(sorted(EXAMPLE_ROBOTS))}"
+def require_serial(source: Any, what: str) -> None:
+    """Refuse a closed Mechanism where only trees make sense (``what`` names the problem).
+
+    Raises:
+        InvalidInputError: ``source`` is a Mechanism with loop closures; the message lists
+            the serial catalogue entries.
+    """
+    if isinstance(source, Mechanism) and source.loops is not None:
+        raise InvalidInputError(
+            f"{what} takes a serial mechanism; {source.name} has loop closures (its efforts "
+            "need the constraint forces of the loops); valid: a serial rcm_pin.Mechanism "
+            f"({', '.join(serial_names())}) or a pin.Model of a tree"
         )
-    try:
-        dist = importlib.metadata.distribution("example-robot-data")
-    except importlib.metadata.PackageNotFoundError:
-        raise InvalidInputError("example-robot-data is not installed") from None
-    base = Path(str(dist.locate_file("cmeel.prefix/share/example-robot-data/robots")))
-    return model_from_urdf(base / EXAMPLE_ROBOTS[name], mimic=mimic)
 
 
-def repo_urdfs() -> list[Path]:
-    """The rendered URDFs committed in ``urdf/`` (may be empty in a partial checkout)."""
-    return sorted(URDF_DIR.glob("*.urdf"))
+def resolve(source: ModelSource, frame: str | int | None) -> Resolved:
+    """The symbolic twin and frame of a Mechanism (default frame: its tool / output
+    frame) or of a ``pin.Model`` / :class:`SymbolicModel` (frame required).
 
-
-def mechanism_model(name: str) -> pin.Model:
-    """The ``pin.Model`` of a shipped mechanism (``rcm_pin.load(name).model``), falling
-    back to ``urdf/<name>.urdf`` when ``rcm_pin.load`` is unavailable."""
-    try:
-        import rcm_pin
-
-        return rcm_pin.load(name).model
-    except ImportError:
-        path = URDF_DIR / f"{name}.urdf"
-        if not path.is_file():
-            raise UnknownMechanismError(f"unknown mechanism {name!r}") from None
-        return model_from_urdf(path)
+    Raises:
+        InvalidInputError: a bare model without a frame, or not a model at all.
+        UnknownFrameError: a frame the model does not have.
+    """
+    if isinstance(source, Mechanism):
+        sm = SymbolicModel(source.model)
+        fid = source.tool_frame_id if frame is None else sm.frame_id(frame)
+        return Resolved(sm, fid, source)
+    if isinstance(source, (pin.Model, SymbolicModel)):
+        if frame is None:
+            raise InvalidInputError(
+                "a frame is required with a bare pin.Model; valid: a frame name or id, or "
+                "pass an rcm_pin.Mechanism (its tool frame is the default)"
+            )
+        sm = source if isinstance(source, SymbolicModel) else SymbolicModel(source)
+        return Resolved(sm, sm.frame_id(frame), None)
+    raise InvalidInputError(
+        f"model must be an rcm_pin.Mechanism, a pin.Model or an ocp.SymbolicModel; "
+        f"got {type(source).__name__}"
+    )
 
 
 __all__ = [
-    "EXAMPLE_ROBOTS",
-    "EXAMPLE_TOOL_FRAMES",
-    "TEST_DATA_DIR",
-    "URDF_DIR",
-    "example_robot_model",
-    "mechanism_model",
+    "ModelSource",
+    "Resolved",
+    "catalogue",
+    "load",
     "model_from_urdf",
-    "repo_urdfs",
+    "require_serial",
+    "resolve",
+    "serial_names",
 ]

@@ -1,6 +1,6 @@
 """Paper 000's tracking example as an optimal control problem on the six-DOF RCM model.
 
-Reference (``rcm_pin.trajectories``, ``paper000``): x = 0.1 + 0.01 sin wt,
+Reference (``rcm_pin.control.references``, ``paper000``): x = 0.1 + 0.01 sin wt,
 y = 0.1 + 0.01 cos wt, z = 0.1 + 0.01 sin wt, w = 10 rad/s, over one period. Its
 |p| reaches 0.186 m, beyond the rig's q3 upper limit of 0.12 m: the OCP uses widened
 limits (q3 <= 0.25 m; angles keep their +-60 deg, the reference needs q1 in
@@ -9,7 +9,8 @@ held at 0 by a posture cost (feasible case) or locked by its bounds (limited cas
 5 N m drives on its ~1e-5 kg m^2 links it would otherwise act as a reaction wheel).
 
 Exact solution, independent of the OCP: q1..q3 from the analytic inverse kinematics and
-its derivatives (``rcm_pin.trajectories.joint_reference``), efforts by Pinocchio's RNEA.
+its derivatives (``rcm_pin.mechanisms.rcm.point.joint_reference``), efforts by Pinocchio's
+RNEA.
 On the collocation grid the OCP's zero-cost solution is "analytic IK at the collocation
 points + the collocation velocity/acceleration + RNEA" (:func:`discrete_exact`).
 """
@@ -22,9 +23,15 @@ import numpy as np
 import pinocchio as pin
 
 import rcm_pin
+from ocp.models import require_serial
 from ocp.tracking import TrackingOCP, TrackingResult
-from rcm_pin.trajectories import get_trajectory, joint_reference, point_ik
+from rcm_pin.catalog import ENTRIES, get_entry
+from rcm_pin.control.references import get_trajectory
+from rcm_pin.errors import InvalidInputError
+from rcm_pin.mechanisms.rcm.point import joint_reference, point_ik
 
+#: The mechanism of paper 000's example (the bevel-gear RCM mechanism).
+MECHANISM = "rcm_bevel"
 OMEGA = 10.0  # [rad/s]
 HORIZON = 2.0 * np.pi / OMEGA  # one period [s]
 Q3_UPPER = 0.25  # [m], widened from the rig's 0.12 m
@@ -97,7 +104,7 @@ def discrete_exact(ocp: TrackingOCP, mech: rcm_pin.Mechanism) -> Trajectory:
 
 
 def build(
-    name: str = "rcm_bevel",
+    name: str = MECHANISM,
     n_intervals: int = 100,
     *,
     degree: int = 3,
@@ -106,13 +113,27 @@ def build(
     lock_wrist: bool = False,
     jit: bool = False,
 ) -> tuple[TrackingOCP, rcm_pin.Mechanism]:
-    """The tracking OCP of the tool centre of ``name`` over one period."""
+    """The tracking OCP of the tool centre of ``name`` over one period.
+
+    Raises:
+        InvalidInputError: a closed mechanism, or one whose family has no closed-form
+            tool centre p = q3·e4 (the exact solution needs it).
+    """
     mech = rcm_pin.load(name)
+    require_serial(mech, "paper 000's tracking OCP")
+    task = mech.output.subset(("x", "y", "z"))
+    if mech.family.task_kinematics(mech, task) is None:
+        family = get_entry(MECHANISM).family  # the paper's mechanism
+        valid = [e.name for e in ENTRIES if e.family is family]
+        raise InvalidInputError(
+            f"paper 000's tracking OCP needs the RCM tool centre p = q3·e4 (the analytic "
+            f"exact solution); {mech.name} has none; valid: {', '.join(valid)}"
+        )
     lo, hi = limits(mech, lock_wrist)
     weights = np.zeros(mech.nq)
     weights[3:] = WRIST_WEIGHT
     ocp = TrackingOCP(
-        mech.model,
+        mech,
         "tool",
         horizon=HORIZON,
         n_intervals=n_intervals,

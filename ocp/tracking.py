@@ -23,6 +23,10 @@ each (:mod:`ocp.collocation`, Radau IIA by default), in the order of the math:
 * solve: IPOPT (exact Hessian) or fatrop (structure given manually: the layout above is
   fatrop's ``[x_k, u_k]`` / ``[gap_k, path_k]`` order). Derivatives are assembled stage by
   stage (:mod:`ocp.stagewise`); ``jit=True`` compiles the stage functions.
+
+The model is a serial :class:`rcm_pin.Mechanism` (default frame: its tool frame) or a
+``pin.Model`` with a frame; the efforts are eliminated through the tree's inverse
+dynamics, so a closed Mechanism (its loops need constraint forces) is refused.
 """
 
 from __future__ import annotations
@@ -33,9 +37,9 @@ from typing import Any, Literal
 
 import casadi as ca
 import numpy as np
-import pinocchio as pin
 
 from ocp.collocation import Scheme, collocation
+from ocp.models import ModelSource, require_serial, resolve
 from ocp.stagewise import StagewiseNLP
 from ocp.symbolic import JIT_OPTIONS, SymbolicModel
 from ocp.tracking_result import TrackingResult, make_result
@@ -49,8 +53,8 @@ class TrackingOCP:
 
     def __init__(
         self,
-        model: pin.Model | SymbolicModel,
-        frame: str | int,
+        model: ModelSource,
+        frame: str | int | None = None,
         *,
         horizon: float,
         n_intervals: int = 100,
@@ -68,13 +72,15 @@ class TrackingOCP:
         max_iter: int = 200,
         jit: bool = False,
     ) -> None:
-        self.sm = model if isinstance(model, SymbolicModel) else SymbolicModel(model)
+        require_serial(model, "the tracking OCP")
+        src = resolve(model, frame)
+        self.sm: SymbolicModel = src.sm
         sm, n = self.sm, self.sm.nv
         if sm.nq != sm.nv:
             raise InvalidInputError("tracking needs nq == nv (no continuous joints)")
         if horizon <= 0 or n_intervals < 1 or solver not in ("ipopt", "fatrop"):
             raise InvalidInputError("need horizon > 0, n_intervals >= 1, solver ipopt|fatrop")
-        self.fid, self.solver_name = sm.frame_id(frame), solver
+        self.fid, self.solver_name = src.frame_id, solver
         self.T, self.N, self.col = float(horizon), int(n_intervals), collocation(degree, scheme)
         self.h, d = self.T / self.N, degree
         self.lower = np.asarray(sm.model.lowerPositionLimit if lower is None else lower, float)

@@ -1,40 +1,49 @@
 """rcm-pin: remote-centre-of-motion and small parallel mechanisms on Pinocchio.
 
-Public API (see README): :func:`load`, :func:`mechanisms`, :class:`Mechanism`, forward
-kinematics (:func:`tool_pose`, :func:`rcm_error`), analytic inverse kinematics
-(:func:`solve_ik`), errors in :mod:`rcm_pin.errors`.
+Public API (see README):
+
+* :func:`load` a catalogue name (:func:`names`, :func:`catalogue`) or a URDF / xacro path into a
+  :class:`Mechanism` (serial or closed, one class);
+* :func:`forward` and :func:`inverse`: the position problems of every mechanism, every
+  branch / working mode / assembly mode labelled;
+* :func:`tool_pose`, :func:`frame_pose`, :func:`rcm_error`: forward kinematics;
+* :func:`mobility`: the formula count beside the rank of the closure Jacobian;
+* typed errors in :mod:`rcm_pin.errors`, one base class :class:`RcmPinError`.
 """
 
-from rcm_pin import analytic_ik, closed_form, errors, rotations
-from rcm_pin.catalog import MechanismSpec, mechanisms
+from rcm_pin import errors, rotations
+from rcm_pin.analysis.kinematics import frame_pose, rcm_error, tool_pose, tool_poses
+from rcm_pin.analysis.mobility import MobilityCount, mobility
+from rcm_pin.analysis.position import PositionResult, PositionSolution, forward, inverse
+from rcm_pin.catalog import CatalogEntry, from_urdf, load, names
+from rcm_pin.catalog import mechanisms as catalogue
 from rcm_pin.errors import RcmPinError
-from rcm_pin.inverse import IKResult, solve_ik, solve_ik_position, solve_ik_within_limits
-from rcm_pin.kinematics import frame_pose, rcm_error, tool_pose, tool_poses
-from rcm_pin.mechanism import Coupling, Mechanism, from_urdf, load
-from rcm_pin.mobility import MobilityCount, mobility
+from rcm_pin.model import Coupling, Family, Loops, Mechanism, Output
 
 __all__ = [
+    "CatalogEntry",
     "Coupling",
-    "IKResult",
+    "Family",
+    "Loops",
     "Mechanism",
-    "MechanismSpec",
     "MobilityCount",
+    "Output",
+    "PositionResult",
+    "PositionSolution",
     "RcmPinError",
-    "analytic_ik",
-    "closed_form",
+    "catalogue",
     "errors",
+    "forward",
     "frame_pose",
     "from_urdf",
+    "inverse",
     "load",
-    "mechanisms",
     "mobility",
+    "names",
     "rcm_error",
     "rotations",
-    "solve_ik",
-    "solve_ik_position",
-    "solve_ik_within_limits",
     "tool_pose",
     "tool_poses",
 ]
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"

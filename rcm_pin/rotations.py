@@ -173,6 +173,24 @@ def project_to_rotation(R: ArrayLike, tol: float = ROTATION_TOL) -> tuple[FloatA
     return proj, dist
 
 
+def wrap_angle(angle: ArrayLike) -> FloatArray:
+    """Angles wrapped to [−π, π) [rad] (elementwise)."""
+    return np.asarray((np.asarray(angle, dtype=np.float64) + np.pi) % (2.0 * np.pi) - np.pi)
+
+
+def random_rotations(rng: np.random.Generator, n: int) -> FloatArray:
+    """n rotation matrices drawn uniformly on SO(3) (Haar measure), shape ``(n, 3, 3)``.
+
+    QR decomposition of Gaussian matrices with the signs of R's diagonal moved into Q
+    (Mezzadri 2007), then a column sign flip where det = −1.
+    """
+    a = rng.standard_normal((n, 3, 3))
+    q, r = np.linalg.qr(a)
+    q = q * np.sign(np.diagonal(r, axis1=-2, axis2=-1))[:, None, :]
+    q[np.linalg.det(q) < 0.0, :, 0] *= -1.0
+    return np.asarray(q)
+
+
 def pose_from_matrix(T: ArrayLike, tol: float = LAST_ROW_TOL) -> tuple[FloatArray, FloatArray]:
     """Split homogeneous transforms into rotation part and translation.
 
@@ -207,8 +225,10 @@ __all__ = [
     "matrix_to_rpy",
     "pose_from_matrix",
     "project_to_rotation",
+    "random_rotations",
     "rot_x",
     "rot_y",
     "rot_z",
     "rpy_to_matrix",
+    "wrap_angle",
 ]

@@ -35,17 +35,17 @@ def random_q(mech, n, rng, margin=0.0):
 @pytest.fixture(scope="session")
 def m3():
     """The planar 3-RRR closed mechanism with default arguments."""
-    from rcm_pin.closed_loop import load_closed
+    import rcm_pin
 
-    return load_closed("planar_3rrr")
+    return rcm_pin.load("planar_3rrr")
 
 
 @pytest.fixture(scope="session")
 def m5():
     """The five-bar closed mechanism with default arguments."""
-    from rcm_pin.closed_loop import load_closed
+    import rcm_pin
 
-    return load_closed("five_bar")
+    return rcm_pin.load("five_bar")
 
 
 @pytest.fixture(autouse=True)

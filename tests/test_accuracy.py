@@ -6,8 +6,9 @@ import numpy as np
 import pytest
 
 import rcm_pin
-from rcm_pin import accuracy as acc
 from rcm_pin.errors import InvalidInputError
+from rcm_pin.mechanisms.rcm import PLACEMENT_JOINTS
+from rcm_pin.mechanisms.rcm import accuracy as acc
 
 Q = np.array([0.5, 0.8, 0.085, 0.2, 0.5, 0.1])
 
@@ -27,20 +28,20 @@ def _agree(d, change, delta=1e-5):
 )
 def test_xacro_first_order_matches_rerender(name, params):
     for p in params:
-        d, change = acc.xacro_sensitivity(name, Q, p)
+        d, change = acc.xacro_sensitivity(rcm_pin.load(name), Q, p)
         _agree(d, change)
 
 
 def test_placement_first_order_matches_perturbed_model():
     mech = rcm_pin.load("rcm_bevel")
-    for joint in acc.PLACEMENT_JOINTS:
+    for joint in PLACEMENT_JOINTS:
         for k in range(6):
             d, change = acc.placement_sensitivity(mech, Q, joint, k)
             _agree(d, change)
 
 
 def test_which_errors_move_the_rcm_point():
-    name = "rcm_bevel"
+    name = rcm_pin.load("rcm_bevel")
     # consistent design changes keep the parallelogram: the line still passes through A
     for p in ("l9", "a7_x", "a7_z"):
         d, _ = acc.xacro_sensitivity(name, Q, p)
@@ -48,14 +49,13 @@ def test_which_errors_move_the_rcm_point():
     # a tooth-count error breaks the equal-rotation transmission: the line misses A
     d, _ = acc.xacro_sensitivity(name, Q, "z13")
     assert np.linalg.norm(d[6:]) > 1e-4
-    mech = rcm_pin.load(name)
-    d, _ = acc.placement_sensitivity(mech, Q, "pair24", 0)  # lateral offset of the slide
+    d, _ = acc.placement_sensitivity(name, Q, "pair24", 0)  # lateral offset of the slide
     np.testing.assert_allclose(np.linalg.norm(d[6:]), 1.0, atol=1e-6)
 
 
 def test_errors():
     with pytest.raises(InvalidInputError) as exc:
-        acc.xacro_sensitivity("rcm_bevel", Q, "m_tool")
+        acc.xacro_sensitivity(rcm_pin.load("rcm_bevel"), Q, "m_tool")
     assert str(exc.value) == (
         "xacro parameter 'm_tool' not in rcm_bevel; valid: l9, a7_x, a7_z, z13, z14, z16, "
         "z17, z18, z19, z21, z22"

@@ -7,21 +7,26 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-import rcm_pin.analytic_ik as aik
-from rcm_pin.analytic_ik import (
-    Degeneracy,
-    ik_pose,
-    ik_pose_4dof,
-    ik_position,
-)
-from rcm_pin.closed_form import WristType, output_axis, output_rotation, tool_pose, tool_position
 from rcm_pin.errors import (
     InvalidInputError,
     NotARotationError,
     SingularConfigurationError,
     UnreachablePoseError,
 )
-from rcm_pin.ik_solve import solve_pose
+from rcm_pin.mechanisms.rcm.analytic_ik import (
+    Degeneracy,
+    ik_pose,
+    ik_pose_4dof,
+    ik_position,
+)
+from rcm_pin.mechanisms.rcm.closed_form import (
+    WristType,
+    output_axis,
+    output_rotation,
+    tool_pose,
+    tool_position,
+)
+from rcm_pin.mechanisms.rcm.ik_solve import solve_pose
 from rcm_pin.rotations import rot_x, rot_y, rot_z
 
 A_B = np.array(
@@ -182,7 +187,9 @@ def test_chunking_is_invisible(monkeypatch: pytest.MonkeyPatch) -> None:
     q[::97, 4] = 0.0  # wrist-aligned poses scattered across blocks
     t = tool_pose(q)
     ref = ik_pose(t)
-    monkeypatch.setattr(aik, "CHUNK", 64)
+    from rcm_pin.mechanisms.rcm import ik_tables
+
+    monkeypatch.setattr(ik_tables, "CHUNK", 64)
     small = ik_pose(t)
     assert np.array_equal(ref.q, small.q, equal_nan=True)
     assert np.array_equal(ref.degenerate, small.degenerate)

@@ -12,8 +12,8 @@ import pytest
 from PIL import Image
 
 import rcm_pin
-from rcm_pin.viz import Viewer
-from rcm_pin.viz_snapshot import find_chromium, screenshot_html
+from rcm_pin.viz.snapshot import find_chromium, picture, screenshot_html
+from rcm_pin.viz.viewer import Viewer
 
 pytestmark = pytest.mark.browser
 
@@ -36,9 +36,7 @@ def _reddish(img: np.ndarray) -> np.ndarray:
 
 def test_mechanism_drawn_where_the_camera_looks(tmp_path):
     mech = rcm_pin.load("rcm_bevel")
-    viewer = Viewer(mech, snapshot_style=True)
-    viewer.show_rcm()
-    viewer.show_tool_axis()
+    viewer = Viewer(mech, snapshot_style=True)  # RCM marker and tool axis by default
     q1 = np.array([0.3, -0.4, 0.09, 0.5, 0.6, 0.2])
     viewer.display(q1)
     viewer.fit_camera()
@@ -62,3 +60,22 @@ def test_mechanism_drawn_where_the_camera_looks(tmp_path):
     changed = (np.abs(second - first).sum(axis=2) > 60).mean()
     assert changed > 0.02, f"only {changed:.1%} of the pixels changed"
     assert _reddish(second[row - 12 : row + 13, col - 12 : col + 13]).sum() >= 20  # A is fixed
+
+
+@pytest.mark.parametrize("name", ["planar_3rrr", "four_bar", "panda"])
+def test_closed_and_arm_scenes_drawn(name, tmp_path):
+    """A closed mechanism seen from above (cut-point markers where the camera projects
+    them) and an arm with its meshes, through the one picture helper."""
+    mech = rcm_pin.load(name)
+    viewer = Viewer(mech, snapshot_style=True)
+    png = tmp_path / f"{name}.png"
+    assert picture(viewer, png, size=SIZE) == "chromium"
+    img = np.asarray(Image.open(png).convert("RGB"), dtype=int)
+    drawn = (img < 235).any(axis=2)
+    h, w = drawn.shape
+    assert drawn[h // 5 : 4 * h // 5, w // 5 : 4 * w // 5].mean() > 0.02
+    assert drawn[: h // 20].mean() < 0.05 and drawn[-h // 20 :].mean() < 0.05  # margins clear
+    for a, _ in viewer.cut_frames():  # red cut markers (none for the arm)
+        col, row = np.round(viewer.project(a, SIZE)[0]).astype(int)
+        window = _reddish(img[row - 10 : row + 11, col - 10 : col + 11])
+        assert window.sum() >= 10, f"no red cut marker near pixel ({col}, {row})"

@@ -23,33 +23,45 @@ def test_list_json(capsys):
 
 
 def test_fk_json_matches_closed_form(capsys):
-    from rcm_pin import closed_form
+    from rcm_pin.mechanisms.rcm import closed_form
 
     q = [0.1, -0.2, 0.08, 0.3, 0.4, -0.5]
     code, out, _ = run(capsys, "fk", "rcm_bevel", "--q", ",".join(map(str, q)), "--json")
     payload = json.loads(out)
-    assert code == 0
-    np.testing.assert_allclose(payload["tool_pose"], closed_form.tool_pose(np.array(q)), atol=1e-12)
-    assert payload["rcm_error"] < 1e-12
-    assert list(payload["q"]) == ["q1", "q2", "q3", "q4", "q5", "q6"]
+    (sol,) = payload["solutions"]
+    assert code == 0 and payload["kind"] == "forward"
+    np.testing.assert_allclose(sol["pose"], closed_form.tool_pose(np.array(q)), atol=1e-12)
+    np.testing.assert_allclose(sol["output"]["rotation"], np.array(sol["pose"])[:3, :3], atol=0)
+    assert sol["rcm_error"] < 1e-12
+    assert list(sol["drives"]) == ["q1", "q2", "q3", "q4", "q5", "q6"]
 
 
 def test_ik_json_prints_the_paper_example(capsys):
     pose = "0.75,-0.433,0.5,0;0.5,0.866,0,0;-0.433,0.25,0.866,0.01"
-    code, out, _ = run(capsys, "ik", "rcm_bevel", "--pose", pose, "--json")
-    branches = [list(b["q"].values()) for b in json.loads(out)["branches"]]
+    code, out, _ = run(capsys, "ik", "rcm_bevel", "--arg", "q3_lower=-0.2", "--pose", pose,
+                       "--json")  # fmt: skip
+    payload = json.loads(out)
+    branches = [s["q"] for s in payload["solutions"]]
     target = np.array([0, 0, 0.01, 0, 0.524, 0.524])
-    assert code == 0
+    assert code == 0 and payload["count"] == 8 and payload["position_only"] is False
     assert np.min(np.abs(np.array(branches) - target).max(axis=1)) < 5e-4
+    assert 1e-5 < payload["rotation_projection_distance"] < 1e-4  # A_b is rounded
 
 
 def test_ik_xyz_rpy(capsys):
     argv = ["ik", "rcm_bevel", "--xyz", "0.02,-0.03,0.09", "--rpy", "0.1,0.2,0.3"]
     code, out, _ = run(capsys, *argv, "--within-limits", "--json")
     payload = json.loads(out)
-    assert (
-        code == 0 and payload["branches"] and all(b["within_limits"] for b in payload["branches"])
-    )
+    assert code == 0 and payload["solutions"]
+    assert all(s["within_limits"] for s in payload["solutions"])
+
+
+def test_ik_position_only(capsys):
+    code, out, _ = run(capsys, "ik", "rcm_bevel", "--xyz", "0.02,-0.03,0.09", "--json")
+    payload = json.loads(out)
+    assert code == 0 and payload["position_only"] and payload["count"] == 4
+    for s in payload["solutions"]:
+        np.testing.assert_allclose(np.array(s["pose"])[:3, 3], [0.02, -0.03, 0.09], atol=1e-12)
 
 
 def test_urdf_check_and_render(capsys, tmp_path):
@@ -69,6 +81,10 @@ def test_urdf_check_and_render(capsys, tmp_path):
         (["ik", "rcm_bevel", "--pose", "1,0,0,0;0,1,0,0;0,0,1,0"], "SingularConfigurationError",
          "TOOL_AT_RCM"),
         (["ik", "rcm_bevel"], "InvalidInputError", "ik needs --pose, or --xyz"),
+        (["ik", "rcm_bevel", "--pose", "1,0,0,0;0,1,0,0;0,0,1,0.1", "--xyz", "0,0,0.1"],
+         "InvalidInputError", "--pose conflicts with --xyz / --rpy"),
+        (["fk", "rcm_bevel", "--q", "0,0,0.1,0,0,0", "--all"], "InvalidInputError",
+         "--all lists the assembly modes of closed mechanisms; rcm_bevel is serial"),
     ],
 )  # fmt: skip
 def test_errors_are_typed_json(capsys, argv, kind, message):
@@ -88,23 +104,44 @@ def test_closed_mechanisms_are_listed(capsys):
     assert kinds["planar_3rrr"] == "closed" and kinds["five_bar"] == "closed"
 
 
-def test_closed_fk_all_modes_and_ik_round_trip(capsys):
-    code, out, _ = run(capsys, "ik", "planar_3rrr", "--pose", "0.0,0.05,0.1", "--json")
+@pytest.mark.parametrize(
+    ("name", "pose"),
+    [("planar_3rrr", "0.0,0.05,0.1"), ("five_bar", "0.03,0.25"), ("four_bar", "1.9")],
+)
+def test_closed_fk_all_modes_and_ik_round_trip(capsys, name, pose):
+    target = np.array([float(v) for v in pose.split(",")])
+    code, out, _ = run(capsys, "ik", name, "--pose", pose, "--json")
     inverse = json.loads(out)
-    assert code == 0 and inverse["count"] == 8
-    drives_idx = [inverse["joint_names"].index(j) for j in ("A1", "A2", "A3")]
-    q_drives = np.array(inverse["solutions"][0]["q"])[drives_idx]
-    q_text = "--q=" + ",".join(map(str, q_drives))  # "--q=" because values may start with "-"
-    code, out, _ = run(capsys, "fk", "planar_3rrr", q_text, "--all", "--json")
+    assert code == 0 and inverse["count"] >= 2
+    drives = inverse["solutions"][0]["drives"]
+    assert list(drives) == inverse["drive_names"]
+    q_text = "--q=" + ",".join(map(str, drives.values()))  # "--q=": values may start with "-"
+    code, out, _ = run(capsys, "fk", name, q_text, "--all", "--json")
     direct = json.loads(out)
-    poses = np.array([s["pose"] for s in direct["solutions"]])
+    outputs = np.array([[s["output"][c] for c in direct["output_coords"]]
+                        for s in direct["solutions"]])  # fmt: skip
     assert code == 0 and direct["count"] >= 2
-    assert np.min(np.abs(poses - [0.0, 0.05, 0.1]).max(axis=1)) < 1e-10
+    assert np.min(np.abs(outputs - target).max(axis=1)) < 1e-10
     assert max(s["residual"] for s in direct["solutions"]) < 1e-12
 
 
 def test_closed_ik_needs_pose(capsys):
     code, out, _ = run(capsys, "ik", "planar_3rrr", "--xyz", "0,0,0", "--json")
-    assert (
-        code == 2 and "closed mechanisms take --pose x,y,phi" in json.loads(out)["error"]["message"]
-    )
+    message = json.loads(out)["error"]["message"]
+    assert code == 2 and message.startswith("closed mechanisms take --pose x,y,rz")
+
+
+@pytest.mark.parametrize("name", ["panda", "ur5"])
+def test_arms_fk_ik(capsys, name):
+    import rcm_pin
+
+    mech = rcm_pin.load(name)
+    q = mech.family.configurations(mech)["home"] + 0.1
+    code, out, _ = run(capsys, "fk", name, "--q", ",".join(map(str, q)), "--json")
+    pose = np.array(json.loads(out)["solutions"][0]["pose"])
+    text = ";".join(",".join(repr(float(v)) for v in row) for row in pose[:3])
+    code, out, _ = run(capsys, "ik", name, "--pose", text, "--json")
+    payload = json.loads(out)
+    assert code == 0 and payload["count"] >= 1 and payload["method"] == "multistart LM"
+    for s in payload["solutions"]:
+        np.testing.assert_allclose(s["pose"], pose, atol=1e-9)

@@ -36,11 +36,11 @@ def test_singularities_pose_every_mode(capsys):
 
 
 def test_singularities_pose_on_type2_curve(capsys):
-    from rcm_pin.closed_loop import load_closed
-    from rcm_pin.closed_loop import planar_3rrr as p3
-    from rcm_pin.closed_loop import workspace as ws
+    import rcm_pin
+    from rcm_pin.mechanisms.planar_3rrr import geometry
+    from rcm_pin.mechanisms.planar_3rrr import workspace as ws
 
-    g = p3.Geometry3RRR.from_params(load_closed("planar_3rrr").params)
+    g = geometry(rcm_pin.load("planar_3rrr"))
     pose = ws.type2_points(g, 0.0, 0, max_points=1)[0]
     code, out = _json(
         capsys,
@@ -90,20 +90,29 @@ def test_workspace_areas(capsys, tmp_path):
 def test_simulate_planar_3rrr(capsys, tmp_path):
     argv = ["simulate", "planar_3rrr", "--duration", "0.4", "--plot", str(tmp_path)]
     code, out = _json(capsys, argv)
-    assert code == 0 and out["max_closure_residual"] < 1e-9
-    assert out["max_deviation_from_error_dynamics"] < 1e-6
-    assert (tmp_path / "planar_3rrr_tracking.png").stat().st_size > 5000
+    (run,) = out["runs"]
+    assert code == 0 and out["scenario"] == "circle" and run["status"] == "completed"
+    assert run["max_closure_residual"] < 1e-9
+    assert run["max_deviation_from_error_dynamics"] < 1e-6
+    assert (tmp_path / "deviation.png").stat().st_size > 5000
 
 
 def test_simulate_five_bar(capsys, tmp_path):
     code, out = _json(capsys, ["simulate", "five_bar", "--plot", str(tmp_path)])
     (run,) = out["runs"]
-    assert code == 0 and run["completed"] and run["time_on_extras"] > 0
-    assert run["peak_main_torque"] <= 0.5 + 1e-12 and run["max_error_after_transient"] < 1e-4
-    assert (tmp_path / "five_bar_switching.png").stat().st_size > 5000
+    assert code == 0 and run["status"] == "completed" and run["time_on_extras"] > 0
+    assert max(run["peak_effort"]) <= 0.5 + 1e-12 and run["max_error_after_transient"] < 1e-4
+    assert (tmp_path / "deviation.png").stat().st_size > 5000
     code, out = _json(capsys, ["simulate", "five_bar", "--no-switching", "--tau-max", "0.5"])
     (run,) = out["runs"]
     assert run["time_on_extras"] == 0 and run["max_error_after_transient"] > 1e-3
+
+
+def test_simulate_five_bar_compare(capsys):
+    code, out = _json(capsys, ["simulate", "five_bar", "--compare"])
+    free, limited, switching = out["runs"]
+    assert code == 0 and max(free["peak_effort"]) > 10 * max(switching["peak_effort"])
+    assert limited["max_error_after_transient"] > 5 * switching["max_error_after_transient"]
 
 
 def test_view_closed_html(capsys, tmp_path):
@@ -119,7 +128,7 @@ def test_view_closed_html(capsys, tmp_path):
         (
             ["singularities", "planar_3rrr"],
             "InvalidInputError",
-            "singularities planar_3rrr needs exactly one of --pose, --q or --grid",
+            "singularities needs exactly one of --q, --pose (--xyz) or --grid",
         ),
         (
             ["singularities", "planar_3rrr", "--pose", "0,0"],
@@ -135,13 +144,13 @@ def test_view_closed_html(capsys, tmp_path):
         (
             ["singularities", "planar_3rrr", "--pose", "2,0,0"],
             "UnreachablePoseError",
-            "planar_3rrr: pose [2.0, 0.0, 0.0] is outside the workspace (a leg cannot reach it)",
+            "planar_3rrr: pose [2.0, 0.0, 0.0] is outside the workspace (a leg cannot reach its "
+            "platform point: |l1 − l2| ≤ |A_i C_i| ≤ l1 + l2 fails)",
         ),
         (
             ["singularities", "five_bar", "--grid", "1,2"],
             "InvalidInputError",
-            "--grid takes no value for closed mechanisms (got '1,2'); "
-            "valid: --grid [--mode M] [--phi PHI] [--n N]",
+            "five_bar maps over its workspace; valid: --grid without coordinates",
         ),
         (
             ["singularities", "five_bar", "--pose", "0,0.2", "--plot", "x.png"],
@@ -151,13 +160,12 @@ def test_view_closed_html(capsys, tmp_path):
         (
             ["singularities", "rcm_bevel", "--grid"],
             "InvalidInputError",
-            "--grid needs i,j[,N] for serial mechanisms, e.g. --grid 1,2,41",
+            "rcm_bevel maps over two coordinates; valid: --grid i,j[,N], e.g. 1,2,41",
         ),
         (
             ["singularities", "rcm_bevel", "--pose", "0,0,0"],
             "InvalidInputError",
-            "--pose apply to closed mechanisms only; valid for rcm_bevel: "
-            "see rcm-pin singularities --help",
+            "--pose for rcm_bevel is a 3x4 tool pose 'r11,r12,r13,x;...;r31,r32,r33,z'",
         ),
         (
             ["workspace", "planar_3rrr", "--n", "3"],
@@ -172,37 +180,33 @@ def test_view_closed_html(capsys, tmp_path):
         (
             ["simulate", "planar_3rrr", "--tau-zeta=-1,1"],
             "InvalidInputError",
-            "--tau-zeta -1,1 is invalid; valid: tau > 0 [s], zeta > 0",
+            "tau=-1.0, zeta=1.0 are invalid; valid: tau > 0 [s], zeta >= 0",
         ),
         (
             ["simulate", "planar_3rrr", "--switching"],
             "InvalidInputError",
-            "--switching applies to five_bar only, not planar_3rrr",
+            "--switching / --compare need extra drives; planar_3rrr has none",
         ),
         (
             ["simulate", "five_bar", "--tau-max", "0"],
             "InvalidInputError",
-            "--tau-max 0.0 is invalid; valid: > 0 [N*m]",
+            "--tau-max 0.0 is invalid; valid: > 0 [N*m, N]",
+        ),
+        (
+            ["simulate", "five_bar", "--scenario", "nope"],
+            "InvalidInputError",
+            "unknown scenario 'nope' for five_bar; valid: crossing, home_circle",
         ),
         (
             ["simulate", "rcm_bevel", "--switching"],
             "InvalidInputError",
-            "--switching applies to five_bar only; rcm_bevel is serial",
+            "--switching / --compare need extra drives; rcm_bevel has none",
         ),
         (
             ["view", "planar_3rrr", "--q", "1.6,-0.4,3.6", "--html", "x.html"],
             "UnreachablePoseError",
-            "planar_3rrr: drives [1.6, -0.4, 3.6] admit no assembly (loop cannot close)",
-        ),
-        (
-            ["view", "planar_3rrr", Q3, "--assembly", "9", "--html", "x.html"],
-            "InvalidInputError",
-            "assembly 9 out of range; valid: 0..1 (2 assembly modes for these drives)",
-        ),
-        (
-            ["view", "rcm_bevel", "--assembly", "1", "--html", "x.html"],
-            "InvalidInputError",
-            "--assembly applies to closed mechanisms only; rcm_bevel is serial",
+            "planar_3rrr: drives [1.6, -0.4, 3.6] admit no assembly (the loops cannot close); "
+            "valid: drive values inside the workspace of planar_3rrr",
         ),
     ],
 )

@@ -7,8 +7,9 @@ import json
 import numpy as np
 import pytest
 
-from rcm_pin import closed_form
+import rcm_pin
 from rcm_pin.cli import main
+from rcm_pin.mechanisms.rcm import closed_form
 from rcm_pin.rotations import rpy_to_matrix
 
 
@@ -25,6 +26,36 @@ def test_ocp_ik_reaches_the_pose(capsys):
     T = closed_form.tool_pose(np.array(payload["q"]))
     np.testing.assert_allclose(T[:3, 3], [0.02, -0.03, 0.09], atol=1e-9)
     np.testing.assert_allclose(T[:3, :3], rpy_to_matrix(0.1, 0.2, 0.3), atol=1e-9)
+
+
+@pytest.mark.parametrize("name", rcm_pin.names())
+def test_ocp_ik_works_for_every_catalogue_entry(capsys, name):
+    """Serial: --xyz of the tool centre at the home configuration (position mode); closed:
+    --pose with the output coordinates there. The answer is checked by Pinocchio."""
+    mech = rcm_pin.load(name)
+    home = mech.family.configurations(mech)["home"]
+    if mech.loops is None:
+        xyz = rcm_pin.tool_pose(mech, home)[:3, 3]
+        argv = ["--xyz=" + ",".join(f"{v:.12g}" for v in xyz)]  # "=": values may be < 0
+    else:
+        value = mech.output_value(mech.to_pin(home))
+        argv = ["--pose=" + ",".join(f"{v:.12g}" for v in value)]
+    code, out = run(capsys, "ocp", "ik", name, *argv, "--json")
+    payload = json.loads(out)
+    assert code == 0 and payload["success"], payload
+    q = mech.to_pin(np.array(payload["q"]))
+    if mech.loops is None:
+        assert payload["mode"] == "position"
+        np.testing.assert_allclose(rcm_pin.tool_pose(mech, payload["q"])[:3, 3], xyz, atol=1e-9)
+    else:
+        assert payload["mode"] == "output" and np.abs(mech.closure_residual(q)).max() < 1e-9
+        err = mech.output.error(mech.output_value(q), value)
+        assert np.abs(err).max() < 1e-8
+
+
+def test_ocp_ik_closed_text(capsys):
+    code, out = run(capsys, "ocp", "ik", "planar_3rrr", "--pose", "0.01,0.02,0.1")
+    assert code == 0 and "planar_3rrr IK (output" in out and "closure residual" in out
 
 
 def test_ocp_track_recovers_the_analytic_tracking(capsys):
@@ -44,6 +75,14 @@ def test_ocp_track_recovers_the_analytic_tracking(capsys):
             "unreachable target: IK of frame 'tool'",
         ),
         (["ocp", "track", "--n", "1"], "InvalidInputError", "--n 1 is too small; valid:"),
+        (["ocp", "ik", "rcm_bevel"], "InvalidInputError", "serial mechanism: give xyz"),
+        (
+            ["ocp", "ik", "five_bar", "--xyz", "0,0.2,0"],
+            "InvalidInputError",
+            "closed mechanism: give pose",
+        ),
+        (["ocp", "ik", "five_bar", "--pose", "0.1"], "InvalidInputError", "valid: (2,)"),
+        (["ocp", "track", "four_bar", "--n", "5"], "InvalidInputError", "loop closures"),
     ],
 )
 def test_ocp_errors(capsys, argv, kind, message):

@@ -25,8 +25,10 @@ def test_simulate_json(capsys, tmp_path):
     )
     assert rc == 0
     out = json.loads(capsys.readouterr().out)
-    assert out["status"] == "completed" and out["gains"] == {"Kn": 720.0, "Kc": 12.0}
-    assert len(out["figures"]) == 3 and (tmp_path / "phase_x.png").exists()
+    (run,) = out["runs"]
+    assert out["scenario"] == "paper000" and run["status"] == "completed"
+    assert run["gains"] == {"Kn": 720.0, "Kc": 12.0}
+    assert len(out["figures"]) == 3 and (tmp_path / "phase.png").exists()
 
 
 def test_simulate_text_tau_zeta(capsys):
@@ -45,7 +47,13 @@ def test_simulate_text_tau_zeta(capsys):
     )
     assert rc == 0
     out = capsys.readouterr().out
-    assert "rcm_bevel_4dof: completed after 0.200 s (Kn = 400, Kc = 40, task space)" in out
+    assert "rcm_bevel_4dof: scenario rig_circle" in out and "Kn = 400, Kc = 40, task space" in out
+    assert "rig_circle: completed at 0.200 s" in out
+
+
+def test_simulate_list(capsys):
+    assert main(["simulate", "planar_3rrr", "--list", "--json"]) == 0
+    assert set(json.loads(capsys.readouterr().out)["scenarios"]) == {"circle", "home_circle"}
 
 
 @pytest.mark.parametrize(

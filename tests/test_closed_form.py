@@ -8,14 +8,14 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from hypothesis.extra.numpy import arrays
 
-from rcm_pin.closed_form import (
+from rcm_pin.errors import InvalidInputError
+from rcm_pin.mechanisms.rcm.closed_form import (
     joint_axes,
     output_axis,
     tool_pose,
     tool_position,
     tool_rotation,
 )
-from rcm_pin.errors import InvalidInputError
 from rcm_pin.rotations import rot_x, rot_y, rot_z
 
 A_B = np.array(

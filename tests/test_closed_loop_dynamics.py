@@ -5,31 +5,30 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from rcm_pin.closed_loop import load_closed
-from rcm_pin.closed_loop.dynamics import (
+import rcm_pin
+from rcm_pin.analysis.loop_velocity import passive_velocity
+from rcm_pin.dynamics.constrained import (
     forward_dynamics,
     inverse_dynamics,
     pin_constraint_dynamics,
 )
-from rcm_pin.closed_loop.position import inverse_position
-from rcm_pin.closed_loop.switching import StudySettings, simulate, torque_along_reference
-from rcm_pin.closed_loop.velocity import passive_velocity
+from rcm_pin.studies.five_bar_switching import StudySettings, simulate, torque_along_reference
 
 
 @pytest.mark.parametrize(
     "name,pose", [("planar_3rrr", [0.02, -0.01, 0.2]), ("five_bar", [0.02, 0.2])]
 )
 def test_kkt_dynamics_matches_pin_constraint_dynamics(name, pose):
-    m = load_closed(name)
+    m = rcm_pin.load(name)
     rng = np.random.default_rng(0)
-    q = inverse_position(m, np.array(pose)).solutions[1].q
-    v = passive_velocity(m, q, rng.normal(size=m.dof))
+    q = rcm_pin.inverse(m, np.array(pose)).solutions[1].q
+    v = passive_velocity(m, q, rng.normal(size=m.loops.dof))
     tau = np.zeros(m.model.nv)
-    tau[m.idx_driven] = rng.normal(size=m.dof)
+    tau[m.loops.drive_v] = rng.normal(size=m.loops.dof)
     a, lam = forward_dynamics(m, q, v, tau)
     assert np.max(np.abs(a - pin_constraint_dynamics(m, q, v, tau))) < 1e-9
     tau_back, lam_back = inverse_dynamics(m, q, v, a)
-    assert np.allclose(tau_back, tau[m.idx_driven], atol=1e-10)
+    assert np.allclose(tau_back, tau[m.loops.drive_v], atol=1e-10)
     assert np.allclose(lam_back, lam, atol=1e-10)
 
 

@@ -5,23 +5,21 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from rcm_pin.closed_loop import five_bar as fb
-from rcm_pin.closed_loop import planar_3rrr as p3
-from rcm_pin.closed_loop.batch import PlanarTree, batch_solve_passive
-from rcm_pin.closed_loop.position import (
-    direct_position,
-    direct_position_multistart,
-    direct_position_path,
-    inverse_position,
-)
-from rcm_pin.closed_loop.report import random_poses
+from rcm_pin.analysis.batch_planar import PlanarTree, batch_solve_passive
+from rcm_pin.analysis.closed_position import direct_position_multistart, direct_position_path
+from rcm_pin.analysis.position import forward as direct_position
+from rcm_pin.analysis.position import inverse as inverse_position
+from rcm_pin.mechanisms import five_bar as fb
+from rcm_pin.mechanisms import planar_3rrr
+from rcm_pin.mechanisms.planar_3rrr import closed_form as p3
+from rcm_pin.report.closed_loops import random_poses
 
 TOL = 1e-12
 
 
 @pytest.fixture(scope="module")
 def g3(m3):
-    return p3.Geometry3RRR.from_params(m3.params)
+    return planar_3rrr.geometry(m3)
 
 
 def test_inverse_gives_eight_working_modes(m3, g3):
@@ -30,7 +28,7 @@ def test_inverse_gives_eight_working_modes(m3, g3):
         assert res.count == 8
         for s in res.solutions:
             assert np.linalg.norm(m3.closure_residual(s.q)) < TOL
-            assert np.max(np.abs(s.pose - pose)) < 1e-12
+            assert np.max(np.abs(s.output - pose)) < 1e-12
         assert res.to_json()["count"] == 8
 
 
@@ -51,7 +49,7 @@ def test_direct_of_inverse_round_trip_all_modes(m3, g3):
     for pose, q8 in zip(poses, qs, strict=True):
         sols = direct_position(m3, q8[int(rng.integers(8))], all_modes=True).solutions
         worst_res = max(worst_res, max(s.residual for s in sols))
-        worst_pose = max(worst_pose, min(float(np.max(np.abs(s.pose - pose))) for s in sols))
+        worst_pose = max(worst_pose, min(float(np.max(np.abs(s.output - pose))) for s in sols))
     assert worst_res < TOL
     assert worst_pose < 1e-10
 
@@ -70,7 +68,7 @@ def test_direct_of_inverse_round_trip_newton_from_guess(m3, g3):
         guess = p3.full_q(g3, pose, qd) + rng.normal(0.0, 1e-3, 7)
         sol = direct_position(m3, qd, q_guess=guess).solutions[0]
         worst_res = max(worst_res, sol.residual)
-        worst_pose = max(worst_pose, float(np.max(np.abs(sol.pose - pose))))
+        worst_pose = max(worst_pose, float(np.max(np.abs(sol.output - pose))))
     assert worst_res < TOL
     assert worst_pose < 1e-10
 
@@ -88,7 +86,7 @@ def test_direct_of_inverse_round_trip_batched(m3, g3):
     assert np.max(np.abs(tree.output(q) - poses)) < 1e-10
     # the batched kinematics is the Pinocchio tree
     for i in range(0, 1000, 250):
-        assert np.max(np.abs(tree.output(q[i : i + 1])[0] - m3.output(q[i]))) < 1e-14
+        assert np.max(np.abs(tree.output(q[i : i + 1])[0] - m3.output_value(q[i]))) < 1e-14
 
 
 def test_assembly_mode_counts_closed_form_vs_multistart(m3, g3):
@@ -103,28 +101,28 @@ def test_assembly_mode_counts_closed_form_vs_multistart(m3, g3):
         for s in closed.solutions:
             assert s.residual < TOL
             assert any(np.max(np.abs(s.q - t.q)) < 1e-7 for t in multi.solutions)
-        assert any(np.max(np.abs(s.pose - pose)) < 1e-10 for s in closed.solutions)
+        assert any(np.max(np.abs(s.output - pose)) < 1e-10 for s in closed.solutions)
         counts.append(closed.count)
     assert max(counts) >= 4  # several assembly modes do occur
 
 
 def test_five_bar_modes(m5):
-    g = fb.GeometryFiveBar.from_params(m5.params)
+    g = fb.geometry(m5)
     p = np.array([0.03, 0.25])
     inv = inverse_position(m5, p)
     assert inv.count == 4
     for s in inv.solutions:
-        d = direct_position(m5, s.q[m5.idx_driven], all_modes=True)
-        assert d.count == 2 == len(fb.direct_position(g, s.q[m5.idx_driven]))
-        assert direct_position_multistart(m5, s.q[m5.idx_driven], 32).count == 2
+        d = direct_position(m5, s.q[m5.loops.drive_q], all_modes=True)
+        assert d.count == 2 == len(fb.direct_position(g, s.q[m5.loops.drive_q]))
+        assert direct_position_multistart(m5, s.q[m5.loops.drive_q], 32).count == 2
         assert all(x.residual < TOL for x in d.solutions)
-        assert any(np.max(np.abs(x.pose - p)) < 1e-12 for x in d.solutions)
+        assert any(np.max(np.abs(x.output - p)) < 1e-12 for x in d.solutions)
 
 
 def test_continuation_stays_on_one_branch(m3, g3):
     pose0 = np.array([0.0, 0.0, 0.0])
     q0 = inverse_position(m3, pose0).solutions[0].q
-    qa0 = q0[m3.idx_driven]
+    qa0 = q0[m3.loops.drive_q]
     path = qa0 + np.linspace(0, 1, 60)[:, None] * np.array([0.25, -0.2, 0.15])
     qs = direct_position_path(m3, path, q0)
     for q in qs:

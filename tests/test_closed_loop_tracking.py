@@ -7,15 +7,16 @@ import dataclasses
 import numpy as np
 import pytest
 
-from rcm_pin.closed_loop.tracking import (
+from rcm_pin.errors import InvalidInputError
+from rcm_pin.studies.planar_tracking import (
     TrackingSettings,
     check_path,
-    control,
+    configuration,
+    controller,
     error_response,
     reference_torques,
     simulate_tracking,
 )
-from rcm_pin.errors import InvalidInputError
 
 SHORT = TrackingSettings(duration=0.5, samples=51)
 
@@ -51,17 +52,17 @@ def test_error_response_solves_the_ode(zeta):
 
 def test_control_on_the_reference_equals_inverse_dynamics(m3):
     """Second route: started exactly on the reference, the law gives the reference torques."""
-    from rcm_pin.closed_loop.dynamics import velocity_for_output
-    from rcm_pin.closed_loop.tracking import _configuration
+    from rcm_pin.dynamics.constrained import velocity_for_output
 
     s = dataclasses.replace(SHORT, offset=(0.0, 0.0, 0.0))
     times = np.linspace(0.0, 0.4, 5)
     expected = reference_torques(m3, s, times)
     for t, tau_ref in zip(times, expected):
         p, pd, _ = s.reference(float(t))
-        q = _configuration(m3, p, s.mode)
+        q = configuration(m3, p, s.mode)
         v = velocity_for_output(m3, q, pd)
-        np.testing.assert_allclose(control(m3, s, float(t), q, v)[0], tau_ref, atol=1e-9)
+        law = controller(m3, s)
+        np.testing.assert_allclose(law.effort(float(t), q, v).tau, tau_ref, atol=1e-9)
 
 
 def test_default_path_is_regular(m3):
@@ -83,7 +84,10 @@ def test_bad_settings(m3, change, message):
 
 
 def test_five_bar_is_refused(m5):
-    with pytest.raises(InvalidInputError, match=r"platform tracking needs output \(x, y, rz\)"):
+    with pytest.raises(
+        InvalidInputError,
+        match=r"platform tracking needs a closed mechanism with output \(x, y, rz\)",
+    ):
         simulate_tracking(m5, SHORT)
 
 

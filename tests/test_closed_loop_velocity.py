@@ -5,19 +5,20 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from rcm_pin.closed_loop import five_bar as fb
-from rcm_pin.closed_loop import load_closed
-from rcm_pin.closed_loop import planar_3rrr as p3
-from rcm_pin.closed_loop import workspace as ws
-from rcm_pin.closed_loop.report import random_poses, singularity_agreement
-from rcm_pin.closed_loop.screws import screw_test
-from rcm_pin.closed_loop.velocity import classify, passive_velocity, velocity_matrices
+import rcm_pin
+from rcm_pin.analysis.loop_velocity import classify, passive_velocity, velocity_matrices
+from rcm_pin.analysis.screws import screw_test
 from rcm_pin.errors import SingularConfigurationError
+from rcm_pin.mechanisms import five_bar as fb
+from rcm_pin.mechanisms import planar_3rrr
+from rcm_pin.mechanisms.planar_3rrr import closed_form as p3
+from rcm_pin.mechanisms.planar_3rrr import workspace as ws
+from rcm_pin.report.closed_loops import random_poses, singularity_agreement
 
 
 @pytest.fixture(scope="module")
 def g3(m3):
-    return p3.Geometry3RRR.from_params(m3.params)
+    return planar_3rrr.geometry(m3)
 
 
 def test_output_velocities_pinocchio_vs_closed_form_and_fd(m3, g3):
@@ -36,7 +37,7 @@ def test_output_velocities_pinocchio_vs_closed_form_and_fd(m3, g3):
     # finite differences along the closed-loop motion, one pose
     v = passive_velocity(m3, q, rate)
     eps = 1e-6
-    fd = (m3.output(q + eps * v) - m3.output(q - eps * v)) / (2 * eps)
+    fd = (m3.output_value(q + eps * v) - m3.output_value(q - eps * v)) / (2 * eps)
     assert np.max(np.abs(fd - xdot_pin)) < 1e-8
 
 
@@ -60,15 +61,15 @@ def test_type2_point_det_and_wrench_lines_concurrent(m3, g3):
     assert classify(m3, q).label == "type 2"
     st = screw_test(m3, q)
     assert st.type2 and not st.type1
-    # the three force lines B_iC_i meet in one point (or are parallel): rank W = 2
+    # the three force lines B_iC_i meet in one point (or are parallel): rank W·T = 2
     assert np.linalg.matrix_rank(st.W, 1e-9) == 2
     with pytest.raises(SingularConfigurationError, match="type-2 singularity"):
         velocity_matrices(m3, q).output_jacobian()
 
 
 def test_five_bar_singular_point_both_routes():
-    m5 = load_closed("five_bar")
-    g = fb.GeometryFiveBar.from_params(m5.params)
+    m5 = rcm_pin.load("five_bar")
+    g = fb.geometry(m5)
     p = np.array([0.0, np.sqrt(0.2**2 - 0.15**2)])  # distal links aligned, elbows out
     qd = fb.inverse_position(g, p)[0][1]
     q = fb.full_q(g, p, qd)
@@ -78,4 +79,4 @@ def test_five_bar_singular_point_both_routes():
     assert abs(np.linalg.det(a_cf)) < 1e-15
     # extra drives are regular there
     assert fb.extra_type2_measure(g, p) > 0.5
-    assert not classify(m5.with_drives(m5.extra_drives), q).type2
+    assert not classify(m5.with_drives(m5.loops.extra_drives), q).type2

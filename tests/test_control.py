@@ -6,14 +6,15 @@ import numpy as np
 import pytest
 
 import rcm_pin
-from rcm_pin.control import ComputedTorque, Gains, drive_limits, linear_error
-from rcm_pin.dynamics import with_gravity
+from rcm_pin.control.computed_torque import ComputedTorque, Gains, drive_limits
+from rcm_pin.control.linear import linear_error
+from rcm_pin.control.plots import plot_deviation, plot_efforts, plot_phase
+from rcm_pin.control.references import TRAJECTORIES, get_trajectory
+from rcm_pin.control.simulate import simulate
+from rcm_pin.control.task import pinocchio_task, task_kinematics, task_output
+from rcm_pin.dynamics.tree import with_gravity
 from rcm_pin.errors import InvalidInputError, SingularConfigurationError
-from rcm_pin.simulation import simulate
-from rcm_pin.simulation_plots import plot_deviation, plot_efforts, plot_phase
-from rcm_pin.trajectories import (
-    TRAJECTORIES,
-    get_trajectory,
+from rcm_pin.mechanisms.rcm.point import (
     joint_reference,
     point_bias,
     point_ik,
@@ -27,9 +28,9 @@ GAINS = Gains(720.0, 12.0)
 
 @pytest.fixture(scope="module")
 def two_mass():
-    from rcm_pin.two_mass import load_two_mass
+    from rcm_pin.mechanisms.rcm.two_mass import two_mass_args
 
-    return load_two_mass(q3_upper=0.3)
+    return rcm_pin.load("rcm_two_mass", **two_mass_args(), q3_upper=0.3)
 
 
 @pytest.mark.parametrize("feedforward", [True, False])
@@ -77,7 +78,7 @@ def test_gains_tau_zeta():
 def test_point_kinematics_and_reference():
     rng = np.random.default_rng(2)
     mech = rcm_pin.load("rcm_bevel_4dof")
-    from rcm_pin.kinematics import tool_pose
+    from rcm_pin.analysis.kinematics import tool_pose
 
     for _ in range(20):
         q = np.array([*rng.uniform(-1, 1, 2), rng.uniform(0.05, 0.12), 0.0])
@@ -120,3 +121,32 @@ def test_plots(tmp_path, two_mass):
         path = fn(r, tmp_path / f"{fn.__name__}.png")
         assert path.stat().st_size > 1000
     assert set(r.summary()) >= {"status", "rms_error", "steady_error", "peak_effort"}
+
+
+@pytest.mark.parametrize("name", ["rcm_bevel", "rcm_two_mass"])
+def test_closed_form_task_equals_pinocchio_task(name):
+    """The family's closed-form task kinematics (p = q3 e4) against Pinocchio's frame route."""
+    mech = rcm_pin.load(name)
+    task = task_output(mech, None)
+    closed, pino = task_kinematics(mech, task), pinocchio_task(mech, task)
+    assert closed is not pino and list(closed.joints) == [0, 1, 2]
+    rng = np.random.default_rng(5)
+    for _ in range(200):
+        q = rng.uniform(mech.lower, mech.upper)
+        v = rng.normal(size=mech.nv)
+        np.testing.assert_allclose(closed.position(q), pino.position(q), atol=1e-12)
+        np.testing.assert_allclose(closed.jacobian(q), pino.jacobian(q)[:, :3], atol=1e-12)
+        np.testing.assert_allclose(pino.jacobian(q)[:, 3:], 0.0, atol=1e-12)
+        np.testing.assert_allclose(closed.bias(q, v), pino.bias(q, v), atol=1e-12)
+
+
+def test_redundant_arm_tracks_with_the_pinocchio_task():
+    """panda (7 joints + finger, task x, y, z): minimum-norm law, error dynamics hold."""
+    from rcm_pin.control.scenario import home_circle, run
+
+    mech = with_gravity(rcm_pin.load("panda"), None)
+    sc = home_circle(mech)
+    r = run(mech, sc)
+    assert r.status == "completed"
+    pred = linear_error(sc.gains, r.error[0], r.error_rate[0], r.t)
+    assert np.abs(pred - r.error).max() < 1e-6

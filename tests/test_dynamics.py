@@ -7,9 +7,9 @@ import pinocchio as pin
 import pytest
 
 import rcm_pin
-from rcm_pin import dynamics as dy
+from rcm_pin.control.simulate import simulate
+from rcm_pin.dynamics import tree as dy
 from rcm_pin.errors import InvalidInputError, SingularConfigurationError
-from rcm_pin.simulation import simulate
 
 NAMES = ("rcm_bevel", "rcm_bevel_4dof", "rcm_belt", "rcm_two_mass")
 N_STATES = 1000

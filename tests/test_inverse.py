@@ -13,7 +13,7 @@ from rcm_pin.errors import (
     UnknownMechanismError,
     UnreachablePoseError,
 )
-from rcm_pin.inverse import solve_ik, solve_ik_position, solve_ik_within_limits
+from rcm_pin.mechanisms.rcm.inverse import solve_ik, solve_ik_position, solve_ik_within_limits
 from rcm_pin.report.position import A_B, Q_PUBLISHED
 
 
@@ -69,7 +69,7 @@ def test_not_a_rotation():
 
 def test_unreachable_within_limits_lists_limits():
     mech = rcm_pin.load("rcm_bevel")
-    from rcm_pin import closed_form
+    from rcm_pin.mechanisms.rcm import closed_form
 
     T = closed_form.tool_pose(np.array([0.1, 0.2, 0.5, 0.3, 0.4, 0.5]))  # q3 > 0.12 m limit
     with pytest.raises(UnreachablePoseError, match=r"no IK branch lies within the joint limits"):
@@ -84,6 +84,6 @@ def test_non_rcm_mechanism_is_refused(tmp_path):
         '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>'
         "</robot>"
     )
-    mech = rcm_pin.load(path)
+    mech = rcm_pin.load(path, tool_frame="b")
     with pytest.raises(UnknownMechanismError, match=r"analytic IK is defined for the RCM"):
         solve_ik(mech, np.eye(4))

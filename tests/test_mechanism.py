@@ -8,6 +8,7 @@ import pytest
 from conftest import EXACT, RCM_NAMES, random_q
 
 import rcm_pin
+from rcm_pin.catalog.files import check_rendered
 from rcm_pin.errors import (
     InvalidInputError,
     RcmPinError,
@@ -15,12 +16,11 @@ from rcm_pin.errors import (
     UnknownMechanismError,
     XacroArgumentError,
 )
-from rcm_pin.render import cache_key, declared_args, render_xacro
-from rcm_pin.urdf_files import check_rendered
+from rcm_pin.model.render import cache_key, declared_args, render_xacro
 
 
 def test_catalogue_lists_rcm_mechanisms():
-    names = [s.name for s in rcm_pin.mechanisms()]
+    names = [s.name for s in rcm_pin.catalogue()]
     for name in RCM_NAMES:
         assert name in names
 
@@ -119,7 +119,7 @@ def test_bad_configuration(q, message):
 
 
 def test_render_cache_key_depends_on_arguments_and_content(tmp_path):
-    spec = rcm_pin.catalog.get_spec("rcm_bevel")
+    spec = rcm_pin.catalog.get_entry("rcm_bevel")
     k1 = cache_key(spec.xacro_path, {"l9": "0.2"})
     k2 = cache_key(spec.xacro_path, {"l9": "0.3"})
     assert k1 != k2
@@ -132,11 +132,11 @@ def test_render_cache_key_depends_on_arguments_and_content(tmp_path):
 
 
 def test_render_uses_disk_cache(tmp_path, monkeypatch):
-    import rcm_pin.render as render
+    import rcm_pin.model.render as render
 
     monkeypatch.setenv("RCM_PIN_CACHE", str(tmp_path))
     monkeypatch.setattr(render, "_memory", {})
-    spec = rcm_pin.catalog.get_spec("rcm_bevel")
+    spec = rcm_pin.catalog.get_entry("rcm_bevel")
     text = render_xacro(spec.xacro_path, {"l9": 0.25})
     cached = list((tmp_path / "urdf").glob("*.urdf"))
     assert len(cached) == 1 and cached[0].read_text() == text
@@ -151,7 +151,7 @@ def test_committed_urdfs_are_fresh():
 def test_committed_urdf_loads_everywhere(name):
     import yourdfpy
 
-    spec = rcm_pin.catalog.get_spec(name)
+    spec = rcm_pin.catalog.get_entry(name)
     robot = yourdfpy.URDF.load(str(spec.urdf_path), load_meshes=False)
     assert robot.validate()
     model = pin.buildModelFromUrdf(str(spec.urdf_path), mimic=True)

@@ -1,6 +1,9 @@
-"""IK NLPs (ocp.ik) against the analytic IK of the RCM mechanisms and on reference arms."""
+"""IK NLPs (ocp.ik) against the analytic IK of the RCM mechanisms and on the catalogue's
+reference arms (panda, ur5 through ``rcm_pin.load``), checked by Pinocchio."""
 
 from __future__ import annotations
+
+from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
@@ -8,9 +11,11 @@ import pytest
 
 import rcm_pin
 from ocp import AxisThroughPoint, IKProblem, OrientationCone
-from ocp.models import TEST_DATA_DIR, example_robot_model, model_from_urdf
-from rcm_pin import analytic_ik, closed_form
+from ocp.models import model_from_urdf
 from rcm_pin.errors import InvalidInputError, UnreachablePoseError
+from rcm_pin.mechanisms.rcm import analytic_ik, closed_form
+
+DATA = Path(__file__).parent / "data"
 
 N_POSES = 1000
 BRANCH_TOL = 1e-8
@@ -42,12 +47,13 @@ def test_converges_to_the_nearby_analytic_branch(name, n_poses):
     mech = rcm_pin.load(name)
     rng = np.random.default_rng(11)
     q_true = rng.uniform(mech.lower, mech.upper, size=(n_poses, mech.nq))
+    wrist = closed_form.wrist_type(mech)
     poses = (
-        closed_form.tool_pose(q_true, mech.wrist_type or "zyz")
+        closed_form.tool_pose(q_true, wrist or "zyz")
         if mech.nq == 6
         else np.array([rcm_pin.tool_pose(mech, q) for q in q_true])
     )
-    branches = analytic_ik.ik_pose(poses, mech.wrist_type).q  # (n, n_branches, nq)
+    branches = analytic_ik.ik_pose(poses, wrist).q  # (n, n_branches, nq)
     lo, hi = _wide_limits(mech.nq)
     prob = IKProblem(mech.model, "tool", lower=mech.to_pin(lo), upper=mech.to_pin(hi))
     scale = np.full(mech.nq, 0.3)
@@ -109,14 +115,14 @@ def test_unreachable_targets_raise_typed_errors():
     pose[:3, 3] = [0.03, 0.0, 0.08]  # p off the tool z axis: no 4-DOF configuration
     with pytest.raises(UnreachablePoseError):
         IKProblem(mech4.model, "tool", restarts=3).solve(pose)
-    ur5 = example_robot_model("ur5")
-    far = IKProblem(ur5, "tool0", mode="position", constraints=[AxisThroughPoint((0.3, 0.0, 0.5))])
+    ur5 = rcm_pin.load("ur5")
+    far = IKProblem(ur5, mode="position", constraints=[AxisThroughPoint((0.3, 0.0, 0.5))])
     with pytest.raises(UnreachablePoseError):
         far.solve(np.array([3.0, 0.0, 0.5]))
 
 
 def _ur5_pose(seed: int) -> tuple[pin.Model, np.ndarray, np.ndarray]:
-    model = example_robot_model("ur5")
+    model = rcm_pin.load("ur5").model
     q = np.random.default_rng(seed).uniform(-2.0, 2.0, 6)
     data = model.createData()
     pin.framesForwardKinematics(model, data, q)
@@ -159,7 +165,7 @@ def test_rcm_and_cone_constraints_on_ur5():
 
 
 def test_continuous_and_mimic_joints():
-    model = model_from_urdf(TEST_DATA_DIR / "mimic_tree.urdf")
+    model = model_from_urdf(DATA / "mimic_tree.urdf")
     data, fid = model.createData(), model.getFrameId("tool_link")
     prob = IKProblem(model, "tool_link")
     rng = np.random.default_rng(4)
@@ -198,3 +204,47 @@ def test_bad_inputs():
         )
     with pytest.raises(InvalidInputError):
         AxisThroughPoint((0.0, 0.0, 0.0), axis=(0.0, 0.0, 0.0))
+
+
+@pytest.mark.parametrize("name", ["panda", "ur5"])
+def test_catalogue_arms_reach_random_tool_poses(name):
+    """The example-robot-data arms from the catalogue (serial, no RCM frame): IK of the
+    entry's tool frame (the default of IKProblem(mech)), checked by Pinocchio forward
+    kinematics (position to 1e-9 m, rotation to 1e-8: the weighted residual's reach_tol
+    1e-9 with orientation weight 0.1) and against the joint limits."""
+    mech = rcm_pin.load(name)
+    assert mech.loops is None and mech.rcm is None
+    prob = IKProblem(mech, restarts=10)
+    assert prob.fid == mech.tool_frame_id
+    data, fid = mech.model.createData(), mech.tool_frame_id
+    rng = np.random.default_rng(9)
+    lo, hi = np.maximum(mech.lower, -np.pi), np.minimum(mech.upper, np.pi)
+    for k, q in enumerate(rng.uniform(lo, hi, size=(30, mech.nq))):
+        pose = rcm_pin.tool_pose(mech, q)
+        solver = "lm" if k % 10 else "ipopt"  # the NLP from a warm start
+        q0 = None if solver == "lm" else mech.to_pin(q + 0.05)
+        res = prob.solve(pose, q0, solver=solver)
+        pin.framesForwardKinematics(mech.model, data, res.q)
+        assert np.abs(data.oMf[fid].translation - pose[:3, 3]).max() < 1e-9, (name, k, solver)
+        assert np.abs(data.oMf[fid].rotation - pose[:3, :3]).max() < 1e-8, (name, k, solver)
+        q_sol = mech.from_pin(res.q)
+        assert np.all(q_sol >= mech.lower - 1e-12) and np.all(q_sol <= mech.upper + 1e-12)
+    position = IKProblem(mech, mode="position").solve(pose[:3, 3])
+    pin.framesForwardKinematics(mech.model, data, position.q)
+    assert np.abs(data.oMf[fid].translation - pose[:3, 3]).max() < 1e-9
+
+
+def test_output_mode_of_a_serial_mechanism_is_its_pose():
+    """mode="output" on a serial Mechanism solves its tool pose (x, y, z, rotation), from a
+    4x4 pose or the output's value vector (p, then R row by row), like mode="pose"."""
+    mech = rcm_pin.load("rcm_bevel")
+    q = np.array([0.3, -0.2, 0.09, 0.4, 0.5, 0.6])
+    pose = rcm_pin.tool_pose(mech, q)
+    q0 = mech.to_pin(q + 0.1)
+    ref = IKProblem(mech).solve(pose, q0)
+    out = IKProblem(mech, mode="output")
+    for target in (pose, np.concatenate([pose[:3, 3], pose[:3, :3].reshape(9)])):
+        res = out.solve(target, q0)
+        assert res.success and np.abs(res.q - ref.q).max() < 1e-12
+    with pytest.raises(InvalidInputError, match="mode='output'"):
+        IKProblem(mech, "output_link", mode="output")

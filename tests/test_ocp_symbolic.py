@@ -1,36 +1,45 @@
 """The CasADi twin (ocp.symbolic) against numeric Pinocchio on 10^3 random states.
 
-Models: the mimic test tree (every supported joint kind, armature), ur5 and panda from
-example-robot-data, and every URDF rendered in ``urdf/``. Numeric mass matrices use
+Models: the mimic test tree (every supported joint kind, armature) and every catalogue
+entry (``rcm_pin.names()``: the RCM mechanisms, the cut-open trees of the closed planar
+mechanisms, and the example-robot-data arms ur5 and panda through ``rcm_pin.load``).
+Numeric mass matrices use
 ``pin.crba(..., Convention.WORLD)``: with the default (LOCAL) convention Pinocchio 4.1
 returns a wrong M on mimic models from the second call on a reused Data.
 """
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import casadi as ca
 import numpy as np
 import pinocchio as pin
 import pytest
 
+import rcm_pin
 from ocp import SymbolicModel
-from ocp.models import TEST_DATA_DIR, example_robot_model, model_from_urdf, repo_urdfs
+from ocp.models import model_from_urdf
 from rcm_pin.errors import InvalidInputError, UnknownFrameError
 
 N_STATES = 1000
 KIN_TOL = 1e-12
 DYN_TOL = 1e-10
-MODELS = ["mimic_tree", "ur5", "panda"] + [p.stem for p in repo_urdfs()]
+DATA = Path(__file__).parent / "data"
+MODELS = ["mimic_tree", *rcm_pin.names()]
 
 
 def _load(name: str) -> pin.Model:
+    """A fresh model (tests may change its armature)."""
     if name == "mimic_tree":
-        model = model_from_urdf(TEST_DATA_DIR / "mimic_tree.urdf")
+        model = model_from_urdf(DATA / "mimic_tree.urdf")
         model.armature[:] = np.linspace(0.01, 0.08, model.nv)
         return model
-    if name in ("ur5", "panda"):
-        return example_robot_model(name)
-    return model_from_urdf(next(p for p in repo_urdfs() if p.stem == name))
+    return pin.Model(rcm_pin.load(name).model)
+
+
+def test_every_arm_of_the_catalogue_is_covered():
+    assert {"panda", "ur5", "rcm_bevel", "planar_3rrr"} <= set(MODELS)
 
 
 @pytest.fixture(scope="module", params=MODELS)
@@ -112,7 +121,7 @@ def test_dynamics(states):
 
 
 def test_forward_dynamics_matches_aba_without_mimic():
-    model = example_robot_model("ur5")
+    model = _load("ur5")
     model.armature[:] = 0.05
     data, sm, rng = model.createData(), SymbolicModel(model), np.random.default_rng(3)
     fd = sm.forward_dynamics()

@@ -2,15 +2,20 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pinocchio as pin
 import pytest
 from scipy.integrate import solve_ivp
 
+import rcm_pin
 from ocp import SymbolicModel, TrackingOCP
 from ocp import paper000 as paper
-from ocp.models import TEST_DATA_DIR, example_robot_model, model_from_urdf
+from ocp.models import model_from_urdf
 from rcm_pin.errors import InvalidInputError
+
+DATA = Path(__file__).parent / "data"
 
 
 @pytest.fixture(scope="module")
@@ -94,19 +99,17 @@ def test_fatrop_matches_ipopt():
 
 
 def test_generic_arm_tracks_a_circle():
-    model = example_robot_model("ur5")
+    """ur5 from the catalogue: the Mechanism's tool frame is the tracked frame."""
+    mech = rcm_pin.load("ur5")
     q0 = np.array([0.3, -1.2, 1.4, -0.4, 1.2, 0.1])
-    data = model.createData()
-    pin.framesForwardKinematics(model, data, q0)
-    centre = data.oMf[model.getFrameId("tool0")].translation.copy()
+    centre = rcm_pin.tool_pose(mech, q0)[:3, 3].copy()
 
     def circle(t: np.ndarray) -> np.ndarray:
         s = 2.0 * np.pi * t
         return centre + 0.05 * np.stack([np.sin(s), 1.0 - np.cos(s), 0.0 * s], axis=-1)
 
     ocp = TrackingOCP(
-        model,
-        "tool0",
+        mech,
         horizon=1.0,
         n_intervals=20,
         drive_limits=False,
@@ -114,6 +117,10 @@ def test_generic_arm_tracks_a_circle():
     )
     res = ocp.solve(circle, np.concatenate([q0, np.zeros(6)]), posture=q0)
     assert res.success and res.tracking_error < 1e-4
+    data = mech.model.createData()  # the tracked frame is ur5's tool0, by Pinocchio
+    for q, p in zip(res.q_colloc, res.p):
+        pin.framesForwardKinematics(mech.model, data, q)
+        assert np.abs(data.oMf[mech.model.getFrameId("tool0")].translation - p).max() < 1e-12
 
 
 def test_invalid_inputs():
@@ -124,4 +131,22 @@ def test_invalid_inputs():
     with pytest.raises(InvalidInputError, match="drive_limits"):
         ocp.solve(paper.reference_position, x0, effort_limits=np.ones(6))
     with pytest.raises(InvalidInputError, match="nq == nv"):
-        TrackingOCP(model_from_urdf(TEST_DATA_DIR / "mimic_tree.urdf"), "marker", horizon=1.0)
+        TrackingOCP(model_from_urdf(DATA / "mimic_tree.urdf"), "marker", horizon=1.0)
+    with pytest.raises(InvalidInputError, match="frame is required"):
+        TrackingOCP(mech.model, horizon=1.0)
+
+
+@pytest.mark.parametrize("name", ["planar_3rrr", "five_bar", "four_bar"])
+def test_closed_mechanisms_are_refused(name):
+    """The tracking OCP stays serial: a closed mechanism raises a typed error that lists
+    the valid (serial) catalogue entries."""
+    mech = rcm_pin.load(name)
+    with pytest.raises(InvalidInputError, match=r"serial mechanism.*rcm_bevel.*ur5"):
+        TrackingOCP(mech, horizon=1.0, n_intervals=5)
+    with pytest.raises(InvalidInputError, match="loop closures"):
+        paper.build(name, n_intervals=5)
+
+
+def test_paper_example_needs_the_rcm_tool_centre():
+    with pytest.raises(InvalidInputError, match=r"q3·e4.*rcm_bevel"):
+        paper.build("ur5", n_intervals=5)

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 import rcm_pin
-from rcm_pin import dynamics as dy
-from rcm_pin import two_mass as tm
+from rcm_pin.dynamics import tree as dy
 from rcm_pin.errors import InvalidInputError, XacroArgumentError
+from rcm_pin.mechanisms.rcm import two_mass as tm
 
 
 @pytest.mark.parametrize(
@@ -16,7 +16,9 @@ from rcm_pin.errors import InvalidInputError, XacroArgumentError
     [({}, None), ({}, (0.0, 0.0, -9.81)), ({"m": 0.7, "m_d": 0.3, "L": 0.15}, (1.0, -2.0, -9.0))],
 )
 def test_pinocchio_matches_closed_form(kwargs, g):
-    mech = dy.with_gravity(tm.load_two_mass(q3_upper=0.3, **kwargs), g)
+    mech = dy.with_gravity(
+        rcm_pin.load("rcm_two_mass", **tm.two_mass_args(**kwargs), q3_upper=0.3), g
+    )
     params = tm.TwoMassParams.of(mech)
     assert params.m == pytest.approx(kwargs.get("m", 0.4))
     assert pytest.approx(kwargs.get("L", 0.2)) == params.L
@@ -40,8 +42,8 @@ def test_catalogue_defaults():
     params = tm.TwoMassParams.of(mech)
     assert params.m_d == pytest.approx(tm.reduced_mass(0.10, 0.15, 0.15)) == pytest.approx(0.2)
     assert mech.nq == 3 and mech.model_full.nq == 3
-    assert "rcm_two_mass" in [s.name for s in rcm_pin.mechanisms()]
-    from rcm_pin.urdf_files import check_rendered
+    assert "rcm_two_mass" in [s.name for s in rcm_pin.catalogue()]
+    from rcm_pin.catalog.files import check_rendered
 
     assert "rcm_two_mass" not in check_rendered()
 
@@ -52,4 +54,4 @@ def test_errors():
     with pytest.raises(
         XacroArgumentError, match=r"^xacro argument L=-0.1 must be > 0 for rcm_two_mass"
     ):
-        tm.load_two_mass(L=-0.1)
+        rcm_pin.load("rcm_two_mass", **tm.two_mass_args(L=-0.1))

@@ -7,8 +7,11 @@ import pinocchio as pin
 import pytest
 
 import rcm_pin
-from rcm_pin import velocity as vel
+from rcm_pin.analysis import jacobians as jac
+from rcm_pin.analysis import velocity as vel
 from rcm_pin.errors import InvalidInputError, SingularConfigurationError
+from rcm_pin.mechanisms.rcm import velocity as rvel
+from rcm_pin.mechanisms.rcm.closed_form import wrist_type
 from rcm_pin.rotations import rpy_to_matrix
 
 NAMES = ("rcm_bevel", "rcm_bevel_4dof", "rcm_belt", "rcm_bevel_rpy")
@@ -36,23 +39,23 @@ def mech(request):
 
 def test_forward_pinocchio_equals_closed_form(mech):
     qs, qds, qdds = _states(mech, 1000, 1)
-    cf = vel.closed_form_forward(qs, qds, qdds, mech.wrist_type)
-    Jc = vel.closed_form_jacobian(qs, mech.wrist_type)
+    cf = rvel.closed_form_forward(qs, qds, qdds, wrist_type(mech))
+    Jc = rvel.closed_form_jacobian(qs, wrist_type(mech))
     for k in range(len(qs)):
         m = vel.forward(mech, qs[k], qds[k], qdds[k])
         got = np.r_[m.v, m.omega, m.a, m.epsilon]
         want = np.r_[cf.v[k], cf.omega[k], cf.a[k], cf.epsilon[k]]
         assert np.abs(got - want).max() < TOL
-        assert np.abs(vel.tool_jacobian(mech, qs[k]) - Jc[k]).max() < TOL
+        assert np.abs(jac.tool_jacobian(mech, qs[k]) - Jc[k]).max() < TOL
 
 
 def test_inverse_both_routes_recover_rates(mech):
     qs, qds, qdds = _states(mech, 1000, 2)
     for k in range(len(qs)):
         m = vel.forward(mech, qs[k], qds[k], qdds[k])
-        for route in ("pinocchio", "closed_form"):
-            qd = vel.inverse_velocity(mech, qs[k], m.v, m.omega, route=route)
-            qdd = vel.inverse_acceleration(mech, qs[k], qd, m.a, m.epsilon, route=route)
+        for route in (vel, rvel):  # Pinocchio, and the papers' closed form
+            qd = route.inverse_velocity(mech, qs[k], m.v, m.omega)
+            qdd = route.inverse_acceleration(mech, qs[k], qd, m.a, m.epsilon)
             assert np.abs(qd - qds[k]).max() < TOL
             assert np.abs(qdd - qdds[k]).max() < TOL
 
@@ -66,10 +69,10 @@ def test_mimic_jacobians_equal_projected_full_model(mech):
         qf, vf = mech.coupling.q_full(mech.to_pin(q)), Gv @ qd
         pin.computeJointJacobiansTimeVariation(mf, df, qf, vf)
         pin.updateFramePlacements(mf, df)
-        J = pin.getFrameJacobian(mf, df, fid, vel.LWA) @ Gv
-        dJ = pin.getFrameJacobianTimeVariation(mf, df, fid, vel.LWA) @ Gv
-        assert np.abs(vel.tool_jacobian(mech, q) - J).max() < 1e-12
-        assert np.abs(vel.jacobian_derivative(mech, q, qd) - dJ).max() < 1e-12
+        J = pin.getFrameJacobian(mf, df, fid, jac.LWA) @ Gv
+        dJ = pin.getFrameJacobianTimeVariation(mf, df, fid, jac.LWA) @ Gv
+        assert np.abs(jac.tool_jacobian(mech, q) - J).max() < 1e-12
+        assert np.abs(jac.jacobian_derivative(mech, q, qd) - dJ).max() < 1e-12
         m = vel.forward(mech, q, qd)
         assert np.abs(dJ @ qd - np.r_[m.a, m.epsilon]).max() < 1e-12
 
@@ -94,8 +97,8 @@ def test_finite_differences_of_fk(mech):
         assert np.abs(m.omega - w).max() < 1e-6
         assert np.abs(m.a - a).max() < 1e-6
         assert np.abs(m.epsilon - (wp - wm) / (2 * h)).max() < 1e-6
-        dJ = (vel.tool_jacobian(mech, q + h * qd) - vel.tool_jacobian(mech, q - h * qd)) / (2 * h)
-        assert np.abs(vel.jacobian_derivative(mech, q, qd) - dJ).max() < 1e-6
+        dJ = (jac.tool_jacobian(mech, q + h * qd) - jac.tool_jacobian(mech, q - h * qd)) / (2 * h)
+        assert np.abs(jac.jacobian_derivative(mech, q, qd) - dJ).max() < 1e-6
 
 
 def test_omega_from_angle_rates_matches_finite_differences():
@@ -120,7 +123,7 @@ def test_paper_example_rpy():
     qd = vel.inverse_velocity(mech, q, [1, 1, 1], [0.52] * 3)
     np.testing.assert_allclose(qd, [10, -10, 1, 0.52, 10.52, -9.48], atol=1e-12)
     np.testing.assert_allclose(
-        vel.coupling_terms(q, qd, "rpy"), [-10.6704, -10.1296, 10.1296], atol=1e-12
+        rvel.coupling_terms(q, qd, "rpy"), [-10.6704, -10.1296, 10.1296], atol=1e-12
     )
     qdd = vel.inverse_acceleration(mech, q, qd, [0.2] * 3, [1, 1, 1])
     np.testing.assert_allclose(qdd, [202, -202, -19.8, -9.1296, 213.1296, -190.3296], atol=1e-9)
@@ -157,8 +160,8 @@ def test_bad_inputs():
         "the requested tool motion is not realisable by rcm_bevel_4dof (4 DOF)"
     )
     with pytest.raises(InvalidInputError) as exc:
-        vel.inverse_velocity(mech, q, [0, 0, 1], route="euler")
-    assert str(exc.value) == "route 'euler'; valid: 'pinocchio', 'closed_form'"
+        rvel.inverse_velocity(rcm_pin.load("five_bar"), np.zeros(4), [0, 0, 1])
+    assert str(exc.value).startswith("the closed form needs an RCM mechanism, got five_bar")
     with pytest.raises(InvalidInputError) as exc:
         vel.inverse_velocity(mech, q, [0, 1])
     assert str(exc.value) == "v must have shape (..., 3), got (2,)"

@@ -1,4 +1,4 @@
-"""Meshcat visualisation without a browser: geometry placement, scene, export, CLI."""
+"""Meshcat visualisation without a browser: geometry placement, scene, export, CLI, report."""
 
 from __future__ import annotations
 
@@ -14,20 +14,31 @@ import umsgpack
 from conftest import EXACT, random_q
 
 import rcm_pin
+import rcm_pin.viz.snapshot as snap
 from rcm_pin.cli import main
 from rcm_pin.errors import InvalidInputError, SnapshotError, UnknownFrameError
 from rcm_pin.viz import Viewer
-from rcm_pin.viz_camera import frame_points, project
-from rcm_pin.viz_scene import SceneRecorder, colormap, hex_color
-from rcm_pin.viz_snapshot import frames_png, screenshot_html, snapshot
+from rcm_pin.viz.camera import frame_points, project
+from rcm_pin.viz.drawing import fallback_png
+from rcm_pin.viz.scene import SceneRecorder, colormap, hex_color
+from rcm_pin.viz.snapshot import screenshot_html, snapshot
 
 DATA = Path(__file__).parent / "data"
+NO_RCM = "has no RCM frame; valid: a mechanism with a remote centre (rcm_*), or load(..., "
 
 
 def _commands(html: str) -> list[dict]:
     """Decode the msgpack commands embedded in a static Meshcat page."""
     blobs = re.findall(r"data:application/octet-binary;base64,([A-Za-z0-9+/=]+)", html)
     return [umsgpack.unpackb(base64.b64decode(b)) for b in blobs]
+
+
+def _sent(viewer: Viewer, path: str) -> np.ndarray:
+    """The 4x4 transform last sent to a node of the in-memory scene."""
+    node = viewer.vis.window.tree
+    for part in path.split("/"):
+        node = node[part]
+    return np.array(umsgpack.unpackb(node.transform)["matrix"]).reshape(4, 4).T
 
 
 def test_mimic_visuals_match_no_mimic_model(rcm_mech):
@@ -66,19 +77,29 @@ def test_viewer_places_every_geometry_node(rcm_mech):
         assert np.allclose(sent, T, atol=1e-6), name
 
 
+def test_default_configuration_is_home(rcm_mech):
+    viewer = Viewer(rcm_mech)
+    home = rcm_mech.family.configurations(rcm_mech)["home"]
+    assert np.array_equal(viewer.q, home) and viewer.assembly == "home"
+    assert np.array_equal(viewer.inputs, viewer.q) and viewer.closure_gap() == 0.0
+    plain = Viewer(rcm_pin.load(DATA / "mimic_tree.urdf", tool_frame="tool_link"))
+    mech = plain.mech
+    assert np.array_equal(plain.q, np.clip(np.zeros(mech.nq), mech.lower, mech.upper))
+
+
 def test_tool_axis_passes_through_rcm_and_tool(rcm_mech):
     viewer = Viewer(rcm_mech)
     viewer.show_rcm()
     viewer.show_tool_axis()
     q = random_q(rcm_mech, 1, np.random.default_rng(2))[0]
     viewer.display(q)
-    node = viewer.vis.window.tree["meshcat"]["overlays"]["tool_axis"]
-    T = np.array(umsgpack.unpackb(node.transform)["matrix"]).reshape(4, 4).T
+    T = _sent(viewer, "meshcat/overlays/tool_axis")
     axis, centre = T[:3, 1], T[:3, 3]  # Meshcat cylinders lie along their y axis
     tool = rcm_pin.tool_pose(rcm_mech, q)[:3, 3]
     for point in (np.zeros(3), tool):  # A and the tool centre on the rod's line
         d = point - centre
         assert np.linalg.norm(d - (d @ axis) * axis) < 1e-9
+    assert np.allclose(_sent(viewer, "meshcat/overlays/rcm")[:3, 3], 0.0, atol=1e-7)
 
 
 def test_points_animation_and_static_html():
@@ -90,7 +111,8 @@ def test_points_animation_and_static_html():
     assert points.shape == (50, 3)
     traj = np.linspace(mech.lower * 0.5, mech.upper * 0.5, 12)
     anim = viewer.animate(traj, dt=0.1)
-    assert len(anim.clips) == len(viewer.placements(traj[0]))
+    # every body, plus the two moving overlays (RCM sphere and tool-axis rod)
+    assert len(anim.clips) == len(viewer.placements(traj[0])) + 2
     html = viewer.static_html(controls=False)
     assert "MeshCat.Viewer" in html and ".dg {display: none" in html
     commands = _commands(html)
@@ -165,13 +187,18 @@ def test_errors_have_exact_messages():
     with pytest.raises(InvalidInputError) as exc:
         viewer.animate(np.zeros((3, 6)), dt=0.0)
     assert str(exc.value) == "dt = 0.0; valid: a positive time step [s]"
-    plain = Viewer(rcm_pin.load(DATA / "mimic_tree.urdf"))
+    with pytest.raises(InvalidInputError) as exc:
+        viewer.display_inputs(np.zeros(6), assembly=1)
+    assert str(exc.value) == (
+        "assembly 1: rcm_bevel has no loop closures (its inputs give one configuration); valid: 0"
+    )
+    plain = Viewer(rcm_pin.load(DATA / "mimic_tree.urdf", tool_frame="tool_link"))
     with pytest.raises(InvalidInputError) as exc:
         plain.show_rcm()
-    assert str(exc.value) == "mimic_tree has no RCM frame; valid: rcm_* mechanisms"
+    assert str(exc.value) == "mimic_tree " + NO_RCM + "rcm_frame=...)"
     with pytest.raises(InvalidInputError) as exc:
         plain.show_tool_axis()
-    assert str(exc.value) == "mimic_tree has no output_link frame"
+    assert str(exc.value) == "mimic_tree " + NO_RCM + "rcm_frame=...)"
     with pytest.raises(UnknownFrameError):
         mech.frame_id("nope")
 
@@ -181,12 +208,24 @@ def test_snapshot_fallback_and_missing_chromium(tmp_path, monkeypatch):
     q = np.array([0.3, 0.2, 0.08, 0.0, 0.0, 0.0])
     assert snapshot(mech, q, tmp_path / "f.png", browser=False) == "matplotlib"
     assert (tmp_path / "f.png").stat().st_size > 10_000
-    frames_png(mech, q, tmp_path / "g.png", title="belt")
+    fallback_png(mech, q, tmp_path / "g.png", title="belt")
     monkeypatch.setenv("RCM_PIN_CHROMIUM", "no-such-browser-rcm-pin")
     with pytest.raises(SnapshotError) as exc:
         screenshot_html(tmp_path / "x.html", tmp_path / "x.png")
     assert str(exc.value) == "no Chromium found; valid: install chromium or set RCM_PIN_CHROMIUM"
     assert snapshot(mech, q, tmp_path / "h.png") == "matplotlib"
+
+
+@pytest.mark.parametrize("name", ["rcm_bevel", "panda", "five_bar", "four_bar"])
+def test_fallback_picture_without_a_browser(name, tmp_path, monkeypatch):
+    """The one picture helper falls back to matplotlib for serial and closed mechanisms."""
+    monkeypatch.setattr(snap, "find_chromium", lambda: None)
+    mech = rcm_pin.load(name)
+    png, html = tmp_path / f"{name}.png", tmp_path / f"{name}.html"
+    assert snapshot(mech, None, png, html=html) == "matplotlib"
+    assert png.stat().st_size > 10_000 and html.stat().st_size > 100_000
+    with Viewer(mech, snapshot_style=True) as viewer:
+        assert snap.picture(viewer, tmp_path / "v.png") == "matplotlib"
 
 
 def test_cli_view_html_json_and_errors(tmp_path, capsys, monkeypatch):
@@ -198,6 +237,8 @@ def test_cli_view_html_json_and_errors(tmp_path, capsys, monkeypatch):
     assert main([*argv, "--html", str(html), "--png", str(png), "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["html"] == str(html) and out["png_method"] == "matplotlib"
+    assert out["q"] == out["q_full"] == [0.1, 0.2, 0.08, 0.0] and out["closure_gap"] == 0.0
+    assert out["input_names"] == ["q1", "q2", "q3", "q4"]
     assert "set_animation" in str(_commands(html.read_text()))
     assert main(["view", "rcm_bevel", "--q", "0.1,0.2", "--html", str(html), "--json"]) == 2
     err = json.loads(capsys.readouterr().out)["error"]
@@ -207,6 +248,9 @@ def test_cli_view_html_json_and_errors(tmp_path, capsys, monkeypatch):
     assert main(["view", "rcm_bevel", "--traj", str(bad), "--html", str(html), "--json"]) == 2
     err = json.loads(capsys.readouterr().out)["error"]
     assert err["message"] == "--traj has shape (3, 2); valid: (N, 6) rows of q"
+    assert main(["view", "rcm_bevel", "--assembly", "1", "--html", str(html), "--json"]) == 2
+    err = json.loads(capsys.readouterr().out)["error"]
+    assert err["type"] == "InvalidInputError" and err["message"].endswith("valid: 0")
 
 
 def test_cli_view_live_server(capsys):

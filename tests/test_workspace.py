@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 import rcm_pin
-from rcm_pin import workspace as ws
-from rcm_pin.closed_form import tool_position
 from rcm_pin.errors import InvalidInputError
+from rcm_pin.mechanisms.rcm import workspace as ws
+from rcm_pin.mechanisms.rcm.closed_form import tool_position
 
 
 @pytest.fixture(scope="module")

@@ -18,8 +18,8 @@ import pinocchio as pin
 import pytest
 import yourdfpy
 
-from rcm_pin import closed_form as cf
-from rcm_pin.render import render_xacro
+from rcm_pin.mechanisms.rcm import closed_form as cf
+from rcm_pin.model.render import render_xacro
 
 ROOT = Path(__file__).resolve().parents[1]
 XACRO_DIR = ROOT / "xacro"
@@ -78,7 +78,7 @@ def variant(request, tmp_path_factory):
 
 
 def closed_form(q, wrist):
-    """Tool position and rotation from rcm_pin.closed_form (the papers' formulas)."""
+    """Tool position and rotation from rcm_pin.mechanisms.rcm.closed_form (the papers' formulas)."""
     T = cf.tool_pose(np.asarray(q), wrist)
     return T[:3, 3], T[:3, :3]
 

@@ -1,54 +1,59 @@
 """The ``rcm-pin`` command line.
 
 Each subcommand lives in its own module with a ``register(subparsers)`` function that
-adds its parser and sets ``func``. Every subcommand accepts ``--json`` and then prints
-one JSON document on stdout (schema in ``docs/cli.md``); errors print
-``{"error": {"type": ..., "message": ...}}`` with exit status 2.
+adds its parser and sets ``func``; the modules are listed once, by explicit import. Every
+subcommand accepts ``--json`` and then prints one JSON document on stdout (schema in
+``docs/cli.md``); errors print ``{"error": {"type": ..., "message": ...}}`` with exit
+status 2.
 """
 
 from __future__ import annotations
 
 import argparse
-import importlib
 import json
+import re
 import sys
 from collections.abc import Sequence
 
+from rcm_pin.cli import analysis, catalog, ocp, position, reproduce, simulate, view
 from rcm_pin.errors import RcmPinError
 
 #: Modules that contribute subcommands, in help order.
-COMMAND_MODULES: tuple[str, ...] = (
-    "rcm_pin.cli.basic",
-    "rcm_pin.cli.reproduce",
-    "rcm_pin.cli.analysis",
-    "rcm_pin.cli.simulate",
-    "rcm_pin.cli.ocp",
-    "rcm_pin.cli.view",
-)
+COMMAND_MODULES = (catalog, position, reproduce, analysis, simulate, ocp, view)
 
 
 def build_parser() -> argparse.ArgumentParser:
-    """The argparse parser with every available subcommand."""
+    """The argparse parser with every subcommand."""
     parser = argparse.ArgumentParser(
         prog="rcm-pin",
         description="RCM and parallel mechanisms on Pinocchio (papers 000-004).",
     )
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
-    for name in COMMAND_MODULES:
-        try:
-            module = importlib.import_module(name)
-        except ModuleNotFoundError as exc:
-            if exc.name == name:
-                continue  # that part of the toolkit is not installed in this tree
-            raise
+    for module in COMMAND_MODULES:
         module.register(sub)
     return parser
+
+
+_NEGATIVE = re.compile(r"^-(\d|\.\d)")
+
+
+def join_negative_values(argv: Sequence[str]) -> list[str]:
+    """``--q -0.2,0.1`` -> ``--q=-0.2,0.1``: a value that starts with a minus sign after an
+    option is that option's value (argparse alone would take it for an option; no
+    subcommand has a numeric positional argument)."""
+    out: list[str] = []
+    for token in argv:
+        if out and _NEGATIVE.match(token) and out[-1].startswith("--") and "=" not in out[-1]:
+            out[-1] = f"{out[-1]}={token}"
+        else:
+            out.append(token)
+    return out
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``rcm-pin`` console script."""
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args = parser.parse_args(join_negative_values(sys.argv[1:] if argv is None else argv))
     try:
         return int(args.func(args) or 0)
     except BrokenPipeError:  # e.g. `rcm-pin ... | head`: the reader left, not an error

@@ -10,7 +10,11 @@ from typing import Any
 
 import numpy as np
 
+from rcm_pin.catalog import load
 from rcm_pin.errors import InvalidInputError, XacroArgumentError
+from rcm_pin.model.mechanism import Mechanism
+from rcm_pin.model.output import POSE
+from rcm_pin.rotations import rpy_to_matrix
 
 
 def parse_vector(text: str, name: str, length: int | None = None) -> np.ndarray:
@@ -52,22 +56,85 @@ def parse_xacro_args(pairs: Sequence[str] | None) -> dict[str, str]:
     return out
 
 
+def target_from_args(
+    mech: Mechanism, args: argparse.Namespace
+) -> tuple[np.ndarray, tuple[str, ...]]:
+    """(target value, output coordinates solved for) from ``--pose`` / ``--xyz`` / ``--rpy``.
+
+    ``--pose`` is a 3×4 tool pose ``"r11,r12,r13,x;...;r31,r32,r33,z"`` for a serial
+    mechanism, or the output coordinates of a closed one; ``--xyz`` (with ``--rpy`` for the
+    orientation, R = Rz(γ)Ry(β)Rx(α)) a tool position.
+
+    Raises:
+        InvalidInputError: a missing, malformed or conflicting target.
+    """
+    pose, xyz, rpy = (getattr(args, k, None) for k in ("pose", "xyz", "rpy"))
+    tool_pose = mech.output.coords == POSE
+    if pose and (xyz or rpy):
+        raise InvalidInputError("--pose conflicts with --xyz / --rpy; valid: one of them")
+    if pose:
+        if ";" not in pose:
+            if tool_pose:
+                raise InvalidInputError(
+                    f"--pose for {mech.name} is a 3x4 tool pose 'r11,r12,r13,x;...;r31,r32,r33,z'"
+                )
+            return parse_vector(pose, "pose", mech.output.size), mech.output.coords
+        M = parse_matrix(pose, "pose")
+        if not tool_pose or M.shape not in {(3, 4), (4, 4)}:
+            raise InvalidInputError(
+                f"--pose has shape {M.shape}; valid: 3 rows of 4 numbers for a tool pose"
+                if tool_pose
+                else f"{mech.name} takes --pose with its output coordinates "
+                f"{','.join(mech.output.coords)} (comma-separated)"
+            )
+        return np.r_[M[:3, 3], M[:3, :3].reshape(9)], POSE
+    if not xyz or not tool_pose:
+        raise InvalidInputError(
+            "ik needs --pose, or --xyz (with --rpy for the orientation)"
+            if tool_pose
+            else f"closed mechanisms take --pose {','.join(mech.output.coords)}; "
+            f"{mech.name} has no tool pose for --xyz/--rpy"
+        )
+    p = parse_vector(xyz, "xyz", 3)
+    if not rpy:
+        return p, ("x", "y", "z")
+    return np.r_[p, rpy_to_matrix(*parse_vector(rpy, "rpy", 3)).reshape(9)], POSE
+
+
+def load_mechanism(args: argparse.Namespace) -> Mechanism:
+    """The mechanism named on the command line, with its ``--arg`` xacro arguments and, for
+    a path, ``--tool-frame`` / ``--rcm-frame``."""
+    frames = {"tool_frame": args.tool_frame, "rcm_frame": args.rcm_frame}
+    return load(args.name, **{k: v for k, v in frames.items() if v}, **parse_xacro_args(args.arg))
+
+
 def add_common(parser: argparse.ArgumentParser, mechanism: bool = True) -> None:
     """Add ``NAME``, ``--arg`` and ``--json`` to a subcommand parser."""
     if mechanism:
-        parser.add_argument("name", metavar="NAME", help="mechanism name (rcm-pin list)")
+        parser.add_argument(
+            "name", metavar="NAME", help="mechanism name (rcm-pin list) or a .urdf/.xacro path"
+        )
         parser.add_argument(
             "--arg", action="append", metavar="KEY=VALUE", help="xacro argument (repeatable)"
+        )
+        parser.add_argument(
+            "--tool-frame", metavar="FRAME", help="a path's tool frame (if the file names none)"
+        )
+        parser.add_argument(
+            "--rcm-frame", metavar="FRAME", help="a path's remote-centre frame (optional)"
         )
     parser.add_argument("--json", action="store_true", help="print one JSON document")
 
 
 def to_jsonable(value: Any) -> Any:
-    """Numpy arrays and scalars to lists and floats, recursively."""
+    """Numpy arrays and scalars to lists and floats, recursively; NaN and ±inf to None
+    (strict JSON)."""
     if isinstance(value, np.ndarray):
-        return value.tolist()
-    if isinstance(value, (np.floating, np.integer)):
-        return value.item()
+        return to_jsonable(value.tolist())
+    if isinstance(value, (np.floating, np.integer, np.bool_)):
+        return to_jsonable(value.item())
+    if isinstance(value, float) and not math.isfinite(value):
+        return None
     if isinstance(value, dict):
         return {str(k): to_jsonable(v) for k, v in value.items()}
     if isinstance(value, (list, tuple)):
@@ -78,7 +145,7 @@ def to_jsonable(value: Any) -> Any:
 def emit(args: argparse.Namespace, payload: dict[str, Any], text: str) -> None:
     """Print ``payload`` as JSON with ``--json``, else the human-readable ``text``."""
     if getattr(args, "json", False):
-        print(json.dumps(to_jsonable(payload), indent=2))
+        print(json.dumps(to_jsonable(payload), indent=2, allow_nan=False))
     else:
         print(text)
 

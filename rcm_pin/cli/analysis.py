@@ -1,323 +1,236 @@
-"""``rcm-pin singularities | workspace | accuracy``: Jacobian analyses of a mechanism."""
+"""``rcm-pin singularities | workspace | accuracy``: analyses of any mechanism, one path each.
+
+The analysis functions decide what the mechanism's structure means (a serial Jacobian's
+rank, or a closed mechanism's type 1 / type 2); the commands only parse and print.
+"""
 
 from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
-from rcm_pin.catalog import get_spec
-from rcm_pin.cli._common import add_common, emit, fmt, parse_vector, parse_xacro_args
-from rcm_pin.errors import InvalidInputError, UnknownMechanismError
-from rcm_pin.mechanism import load
-
-_CLOSED_HELP = "closed loops (planar_3rrr, five_bar): "
+from rcm_pin.analysis import accuracy, singularity_report
+from rcm_pin.analysis import workspace as ws
+from rcm_pin.analysis.closed_singularity import parse_mode
+from rcm_pin.analysis.singularity import MEASURES, TASKS
+from rcm_pin.cli._common import (
+    add_common,
+    emit,
+    fmt,
+    load_mechanism,
+    parse_vector,
+    target_from_args,
+)
+from rcm_pin.errors import InvalidInputError
+from rcm_pin.model.mechanism import Mechanism
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the subcommands of this module."""
     p = sub.add_parser(
         "singularities",
-        help="Jacobian rank, singular values, named causes (closed loops: type 1 / type 2)",
+        help="singular verdicts: Jacobian rank and named causes, or type 1 / type 2 (loops)",
     )
     add_common(p)
+    p.add_argument("--q", help="inputs: coordinates (closed: drives; every assembly mode)")
     p.add_argument(
-        "--q",
-        help="q1,...,qn [rad, m]: analyse one configuration ("
-        + _CLOSED_HELP
-        + "drive angles, every assembly mode)",
+        "--pose",
+        help="an output target (every branch / working mode): a 3x4 tool "
+        "pose, or a closed mechanism's output coordinates",
     )
+    p.add_argument("--xyz", help="serial: tool position x,y,z [m] (every position branch)")
+    p.add_argument("--rpy", help="serial, with --xyz: alpha,beta,gamma [rad]")
     p.add_argument(
         "--grid",
         nargs="?",
         const="",
-        help="i,j[,N]: map a measure over coordinates qi, qj (1-based); "
-        + _CLOSED_HELP
-        + "bare --grid maps det A / det B over the workspace",
+        help="i,j[,N]: map a measure over q_i, q_j "
+        "(1-based); closed: bare --grid maps det A, "
+        "det B over the workspace",
     )
-    p.add_argument("--pose", help=_CLOSED_HELP + "output pose x,y,phi (five_bar: x,y)")
-    p.add_argument("--mode", help=_CLOSED_HELP + "working mode, index or signs like +-+")
-    p.add_argument("--phi", type=float, default=0.0, help=_CLOSED_HELP + "grid orientation [rad]")
-    p.add_argument("--n", type=int, default=121, help=_CLOSED_HELP + "grid points per side")
-    p.add_argument("--task", default="full", choices=("full", "position"))
-    p.add_argument(
-        "--measure",
-        default="manipulability",
-        choices=("manipulability", "sigma_min", "inverse_condition"),
-    )
-    p.add_argument("--wide", action="store_true", help="grid over +-pi (q3: +-q3_upper)")
-    p.add_argument("--plot", type=Path, help="grid: write a PNG")
+    p.add_argument("--mode", help="working mode (index or label) of --pose or --grid")
+    p.add_argument("--phi", type=float, default=0.0, help="closed --grid: angle output [rad]")
+    p.add_argument("--n", type=int, default=121, help="closed --grid: points per side")
+    p.add_argument("--task", default="full", choices=TASKS)
+    p.add_argument("--measure", default="manipulability", choices=MEASURES)
+    p.add_argument("--wide", action="store_true", help="serial --grid over ±pi (lengths: ±max)")
+    p.add_argument("--plot", type=Path, help="--grid: write a PNG")
     p.set_defaults(func=cmd_singularities)
 
-    p = sub.add_parser(
-        "workspace",
-        help="reachable tool-centre set, volume, rig-spec check (closed loops: areas)",
-    )
+    p = sub.add_parser("workspace", help="reachable set: volumes, areas, the family's figures")
     add_common(p)
-    p.add_argument("--samples", type=int, default=200_000, help="joint samples (default 2e5)")
-    p.add_argument("--plot", type=Path, help="write a PNG of workspace sections")
-    p.add_argument(
-        "--phi", type=float, default=0.0, help=_CLOSED_HELP + "constant orientation [rad]"
-    )
-    p.add_argument(
-        "--phi-range", help=_CLOSED_HELP + "lo,hi [rad] of the total workspace (default -pi,pi)"
-    )
-    p.add_argument("--n", type=int, default=121, help=_CLOSED_HELP + "grid points per side")
+    p.add_argument("--samples", type=int, default=200_000, help="input samples (default 2e5)")
+    p.add_argument("--plot", type=Path, help="write a PNG of the workspace")
+    p.add_argument("--phi", type=float, default=0.0, help="planar: constant orientation [rad]")
+    p.add_argument("--phi-range", help="planar: lo,hi [rad] of the total workspace")
+    p.add_argument("--n", type=int, default=121, help="planar: grid points per side")
     p.set_defaults(func=cmd_workspace)
 
     p = sub.add_parser("accuracy", help="first-order sensitivity to manufacturing errors")
     add_common(p)
-    p.add_argument("--q", help="configuration q1,...,qn (default: a regular mid-range one)")
+    p.add_argument("--q", help="configuration (default: the family's regular / home one)")
     p.set_defaults(func=cmd_accuracy)
 
 
-def _base_q(mech, text: str | None) -> np.ndarray:
-    if text:
-        return parse_vector(text, "q", mech.nq)
-    q = 0.5 * (mech.lower + mech.upper)
-    if mech.nq == 6:
-        q[4] = 0.5  # away from the zyz wrist singularity sin q5 = 0
-    return q
+def _mode_lines(rep: dict[str, Any]) -> list[str]:
+    lines = []
+    for m in rep["modes"]:
+        if "full" in m:  # serial
+            causes = "; ".join(c["name"] for c in m["causes"]) or "none"
+            lines.append(
+                f"{m['mode']}: {m['verdict']}; full rank {m['full']['rank']}/"
+                f"{m['full']['full_rank']}, sigma {fmt(np.array(m['full']['singular_values']), 4)}"
+                f"; position rank {m['position']['rank']}/{m['position']['full_rank']}; "
+                f"causes: {causes}"
+            )
+        else:
+            screw = "agrees" if m["screw_agrees"] else "DISAGREES"
+            dets = "" if m["det_A"] is None else f"det A {m['det_A']:.4g}, det B {m['det_B']:.4g}, "
+            lines.append(
+                f"mode {m['mode']}: {m['verdict']}; {dets}sigma(A) {fmt(m['sigma_A'], 4)}, "
+                f"sigma(B) {fmt(m['sigma_B'], 4)}; screw test {screw}"
+            )
+    return lines
 
 
-def is_closed(name: str) -> bool:
-    """True for a closed-loop catalogue entry (paths and unknown names stay serial)."""
-    try:
-        return get_spec(name).kind == "closed"
-    except UnknownMechanismError:
-        return False
-
-
-def _closed_only(args: argparse.Namespace, options: dict[str, object]) -> None:
-    given = [k for k, v in options.items() if v]
-    if given:
-        raise InvalidInputError(
-            f"{', '.join(given)} apply to closed mechanisms only; valid for {args.name}: "
-            "see rcm-pin " + args.command + " --help"
-        )
+def _grid_coords(text: str) -> tuple[tuple[int, int] | None, int | None]:
+    if text == "":
+        return None, None
+    parts = parse_vector(text, "grid")
+    if len(parts) not in (2, 3) or not all(float(v).is_integer() for v in parts):
+        raise InvalidInputError(f"--grid {text!r}; valid: i,j[,N] with integers, e.g. 1,2,41")
+    return (int(parts[0]) - 1, int(parts[1]) - 1), (int(parts[2]) if len(parts) == 3 else None)
 
 
 def cmd_singularities(args: argparse.Namespace) -> int:
-    from rcm_pin import singularity as sg
-
-    if is_closed(args.name):
-        return _closed_singularities(args)
-    _closed_only(args, {"--pose": args.pose, "--mode": args.mode})
-    mech = load(args.name, **parse_xacro_args(args.arg))
-    if (args.q is None) == (args.grid is None):
-        raise InvalidInputError("singularities needs exactly one of --q or --grid")
-    if args.grid == "":
-        raise InvalidInputError("--grid needs i,j[,N] for serial mechanisms, e.g. --grid 1,2,41")
-    if args.q is not None:
-        q = parse_vector(args.q, "q", mech.nq)
-        analyses = {t: sg.analyse(mech, q, t) for t in sg.TASKS}
-        causes = sg.classify(mech, q) if mech.rcm_frame_id >= 0 else []
-        payload = {
-            "mechanism": mech.name,
-            "q": q,
-            "rank_tolerance": sg.RANK_TOL,
-            **{t: a.to_json() for t, a in analyses.items()},
-            "causes": [c.__dict__ for c in causes],
-        }
-        lines = [
-            f"{t}: rank {a.rank}/{a.full_rank}, sigma = {fmt(a.singular_values, 4)}, "
-            f"manipulability {a.manipulability:.4g}, condition {a.condition:.4g}"
-            for t, a in analyses.items()
-        ]
-        lines += [f"cause: {c.name}: {c.description} ({c.condition})" for c in causes]
-        lines += ["regular"] if not causes and not analyses["full"].singular else []
-        emit(args, payload, "\n".join(lines))
+    """``rcm-pin singularities``."""
+    mech = load_mechanism(args)
+    target = args.pose if args.pose is not None else args.xyz
+    given = [
+        o
+        for o, v in (("--q", args.q), ("--pose/--xyz", target), ("--grid", args.grid))
+        if v is not None
+    ]
+    if len(given) != 1:
+        raise InvalidInputError("singularities needs exactly one of --q, --pose (--xyz) or --grid")
+    mode = parse_mode(mech, args.mode) if mech.loops is not None else None
+    if args.mode is not None and mech.loops is None:
+        raise InvalidInputError(
+            f"--mode selects a working mode of a closed mechanism; {mech.name} is serial"
+        )
+    if args.grid is not None:
+        coords, n = _grid_coords(args.grid)
+        n = n or (args.n if mech.loops is not None else 41)
+        res = singularity_report.grid_map(
+            mech,
+            coords,
+            n,
+            task=args.task,
+            measure=args.measure,
+            wide=args.wide,
+            mode=mode or 0,
+            phi=args.phi,
+        )
+        res["plot"] = str(_plot_grid(mech, res, args.plot)) if args.plot else None
+        emit(args, res, _grid_text(mech, res))
         return 0
-    parts = parse_vector(args.grid, "grid")
-    if len(parts) not in (2, 3) or not all(float(v).is_integer() for v in parts):
-        raise InvalidInputError(f"--grid {args.grid!r}; valid: i,j[,N] with integers, e.g. 1,2,41")
-    i, j = int(parts[0]) - 1, int(parts[1]) - 1
-    n = int(parts[2]) if len(parts) == 3 else 41
-    q0 = _base_q(mech, None)
-    span = None
-    if args.wide:
-        wide = [(-np.pi, np.pi)] * mech.nq
-        wide[2] = (-mech.upper[2], mech.upper[2])
-        if 0 <= i < mech.nq and 0 <= j < mech.nq:
-            span = (wide[i], wide[j])
-    xs, ys, vals = sg.grid(mech, q0, i, j, n, args.task, args.measure, span)
     if args.plot:
-        _plot_grid(args, mech.name, xs, ys, vals, i, j)
-    payload = {
-        "mechanism": mech.name,
-        "base_q": q0,
-        "coordinates": [i + 1, j + 1],
-        "task": args.task,
-        "measure": args.measure,
-        "x": xs,
-        "y": ys,
-        "values": vals,
-        "min": float(vals.min()),
-        "max": float(vals.max()),
-        "plot": str(args.plot) if args.plot else None,
-    }
-    text = (
-        f"{args.measure} ({args.task}) over q{i + 1} x q{j + 1} ({n}x{n}): "
-        f"min {vals.min():.4g}, max {vals.max():.4g}"
-    )
-    emit(args, payload, text + (f"\nwrote {args.plot}" if args.plot else ""))
+        raise InvalidInputError("--plot needs --grid")
+    if args.q is not None:
+        if mode is not None:
+            raise InvalidInputError("--mode selects a working mode of --pose or --grid, not --q")
+        n = mech.loops.dof if mech.loops is not None else mech.nq
+        rep = singularity_report.at_inputs(mech, parse_vector(args.q, "q", n))
+    else:
+        value, target_coords = target_from_args(mech, args)
+        rep = singularity_report.at_target(mech, value, target_coords, mode=mode)
+    emit(args, rep, "\n".join([f"{mech.name}: tolerance {rep['tol']:g}", *_mode_lines(rep)]))
     return 0
 
 
-def _plot_grid(args, name, xs, ys, vals, i, j) -> None:
+def _grid_text(mech: Mechanism, res: dict[str, Any]) -> str:
+    if mech.loops is None:
+        i, j = res["coordinates"]
+        return (
+            f"{res['measure']} ({res['task']}) over q{i} x q{j}: min {res['min']:.4g}, "
+            f"max {res['max']:.4g}"
+        ) + (f"\nwrote {res['plot']}" if res["plot"] else "")
+    return (
+        f"{mech.name}: det A / det B map, mode {res['mode']}: reachable area "
+        f"{res['reachable_area']:.4g} m^2, {res['type2_sign_changes']} type-2 crossings along "
+        f"rows"
+    ) + (f"\nwrote {res['plot']}" if res["plot"] else "")
+
+
+def _plot_grid(mech: Mechanism, res: dict[str, Any], path: Path) -> Path:
+    if mech.loops is not None:
+        from rcm_pin.analysis.maps import plot_singularity_map
+
+        return plot_singularity_map(res, path)
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     fig, ax = plt.subplots(figsize=(6, 5))
-    im = ax.pcolormesh(xs, ys, vals, shading="auto", cmap="viridis")
-    fig.colorbar(im, ax=ax, label=f"{args.measure} ({args.task} Jacobian)")
-    ax.set(xlabel=f"q{i + 1}", ylabel=f"q{j + 1}", title=f"{name}: {args.measure}")
+    im = ax.pcolormesh(res["x"], res["y"], res["values"], shading="auto", cmap="viridis")
+    fig.colorbar(im, ax=ax, label=f"{res['measure']} ({res['task']} Jacobian)")
+    i, j = res["coordinates"]
+    ax.set(xlabel=f"q{i}", ylabel=f"q{j}", title=f"{mech.name}: {res['measure']}")
     fig.tight_layout()
-    fig.savefig(args.plot, dpi=110)
+    fig.savefig(path, dpi=110)
     plt.close(fig)
+    return path
 
 
 def cmd_workspace(args: argparse.Namespace) -> int:
-    from rcm_pin import workspace as ws
-
-    if is_closed(args.name):
-        return _closed_workspace(args)
-    _closed_only(args, {"--phi-range": args.phi_range})
-    mech = load(args.name, **parse_xacro_args(args.arg))
-    if args.samples < 1000:
-        raise InvalidInputError(f"--samples {args.samples}; valid: >= 1000")
-    s = ws.summary(mech, args.samples)
+    """``rcm-pin workspace``."""
+    mech = load_mechanism(args)
+    if not np.isfinite(args.phi):
+        raise InvalidInputError(f"--phi {args.phi}; valid: a finite angle [rad]")
+    if not 1000 <= args.samples <= ws.MAX_SAMPLES:
+        raise InvalidInputError(f"--samples {args.samples}; valid: 1000..{ws.MAX_SAMPLES}")
+    options: dict[str, Any] = {"phi": args.phi, "n": args.n}
+    if args.phi_range:
+        lo, hi = parse_vector(args.phi_range, "phi-range", 2)
+        options["phi_range"] = (float(lo), float(hi))
+    s = ws.summary(mech, args.samples, **options)
+    s["plot"] = None
     if args.plot:
-        ws.plot_sections(mech, args.plot, min(args.samples, 200_000))
-    s["plot"] = str(args.plot) if args.plot else None
-    spec = s["spec"]
-    assert isinstance(spec, dict)
-    text = "\n".join(
-        [
-            f"volume analytic {s['volume_analytic']:.6g} m^3, Monte Carlo "
-            f"{s['volume_monte_carlo']:.6g} +- {s['volume_monte_carlo_stderr']:.2g}, voxels "
-            f"{s['volume_voxels']:.6g} (edge {s['voxel_edge']} m)",
-            *[f"boundary: {b}" for b in s["boundary"]],  # type: ignore[attr-defined]
-            "rig spec (60 deg cone, 0.05..0.12 m): "
-            f"{'contained' if spec['contains'] else 'NOT contained'}"
-            f"; angular margin {np.rad2deg(spec['angular_margin']):.3g} deg, inner "
-            f"{spec['inner_margin']:.3g} m, outer {spec['outer_margin']:.3g} m",
-        ]
-    )
-    emit(args, s, text + (f"\nwrote {args.plot}" if args.plot else ""))
+        s["plot"] = str(ws.plot(mech, args.plot, min(args.samples, 200_000), **options))
+    lines = [f"{mech.name} workspace"]
+    lines += [
+        f"  {k}: {v:.6g}" if isinstance(v, float) else f"  {k}: {v}"
+        for k, v in s.items()
+        if k not in ("mechanism", "plot") and not isinstance(v, (dict, list, np.ndarray))
+    ]
+    emit(args, s, "\n".join(lines) + (f"\nwrote {s['plot']}" if s["plot"] else ""))
     return 0
 
 
 def cmd_accuracy(args: argparse.Namespace) -> int:
-    from rcm_pin import accuracy as acc
-
-    xargs = parse_xacro_args(args.arg)
-    mech = load(args.name, **xargs)
-    q = _base_q(mech, args.q)
-    if args.q is None:  # ratio errors act through q2: take q2 at 80 % of its limit
-        q[0], q[1] = 0.5 * mech.upper[0], 0.8 * mech.upper[1]
-    rep = acc.report(args.name, q, xargs)
-    lines = [
-        f"{r['parameter']:<26} {r['kind']:<14} tool {r['tool_per_error']:.3g} m, "
-        f"RCM line {r['rcm_per_error']:.3g} m"
-        for r in rep["rows"]
-    ]
-    emit(args, rep, "\n".join(lines))
-    return 0
-
-
-# ------------------------------------------------------------------ closed loops
-def _closed_singularities(args: argparse.Namespace) -> int:
-    from rcm_pin.closed_loop import direct_position, load_closed
-    from rcm_pin.closed_loop import summary as sm
-    from rcm_pin.closed_loop.core import wrap
-
-    mech = load_closed(args.name, **parse_xacro_args(args.arg))
-    given = [
-        o
-        for o, v in (("--pose", args.pose), ("--q", args.q), ("--grid", args.grid))
-        if v is not None
-    ]
-    if len(given) != 1:
-        raise InvalidInputError(
-            f"singularities {args.name} needs exactly one of --pose, --q or --grid"
-        )
-    mode = sm.parse_mode(mech, args.mode)
-    if args.grid is not None:
-        if args.grid != "":
-            raise InvalidInputError(
-                f"--grid takes no value for closed mechanisms (got {args.grid!r}); "
-                "valid: --grid [--mode M] [--phi PHI] [--n N]"
-            )
-        res = sm.singularity_map(mech, 0 if mode is None else mode, args.phi, args.n)
-        if args.plot:
-            res["plot"] = str(sm.plot_singularity_map(res, args.plot))
-        else:
-            res["plot"] = None
-        text = (
-            f"{mech.name}: det A / det B map, mode {res['mode']}"
-            + (f", phi = {args.phi:g} rad" if res["phi"] is not None else "")
-            + f" ({args.n}x{args.n}): reachable area {res['reachable_area']:.4g} m^2, "
-            f"{res['type2_sign_changes']} type-2 crossings along rows, "
-            f"min |det A| {res['min_abs_det_A']:.3g}, min |det B| {res['min_abs_det_B']:.3g}"
-        )
-        emit(args, sm.nan_to_none(res), text + (f"\nwrote {args.plot}" if args.plot else ""))
-        return 0
-    if args.plot:
-        raise InvalidInputError("--plot needs --grid")
-    if args.pose is not None:
-        res = sm.pose_singularities(mech, parse_vector(args.pose, "pose", mech.dof), mode)
+    """``rcm-pin accuracy``: the family's table, or every joint placement's sensitivity."""
+    mech = load_mechanism(args)
+    named = mech.family.configurations(mech)
+    if args.q:
+        q = parse_vector(args.q, "q", mech.nq)
     else:
-        if mode is not None:
-            raise InvalidInputError("--mode selects a working mode of --pose or --grid, not --q")
-        drives = parse_vector(args.q, "q", mech.dof)
-        modes = []
-        for sol in direct_position(mech, drives, all_modes=True).solutions:
-            one = sm.pose_singularities(mech, sol.pose, None)
-            for m in one["modes"]:
-                if float(np.max(np.abs(wrap(m["q"] - sol.q)))) < 1e-7:
-                    modes.append({**m, "pose": sol.pose, "assembly": sol.mode})
-        res = {
-            "mechanism": mech.name,
-            "q_drives": drives,
-            "output_coords": list(mech.output_coords),
-            "tol": sm.SINGULAR_TOL,
-            "modes": modes,
-        }
-    lines = [f"{mech.name}: tolerance {res['tol']:g} on sigma_min/sigma_max"]
-    for m in res["modes"]:
-        where = f" {m['assembly']} pose {fmt(m['pose'], 5)}," if "assembly" in m else ""
-        screw = "agrees" if m["screw_agrees"] else "DISAGREES"
-        lines.append(
-            f"mode {m['mode']}:{where} {m['verdict']}; det A {m['det_A']:.4g}, det B "
-            f"{m['det_B']:.4g}, sigma(A) {fmt(m['sigma_A'], 4)}, sigma(B) {fmt(m['sigma_B'], 4)}; "
-            f"screw test {screw}"
-        )
-    emit(args, res, "\n".join(lines))
-    return 0
-
-
-def _closed_workspace(args: argparse.Namespace) -> int:
-    from rcm_pin.closed_loop import load_closed
-    from rcm_pin.closed_loop import summary as sm
-
-    mech = load_closed(args.name, **parse_xacro_args(args.arg))
-    lo_hi = (-np.pi, np.pi)
-    if args.phi_range:
-        lo, hi = parse_vector(args.phi_range, "phi-range", 2)
-        lo_hi = (float(lo), float(hi))
-    if not np.isfinite(args.phi):
-        raise InvalidInputError(f"--phi {args.phi}; valid: a finite angle [rad]")
-    res = sm.workspace_areas(mech, args.phi, lo_hi, n=args.n)
-    res["plot"] = str(sm.plot_workspace(mech, args.plot, args.phi, args.n)) if args.plot else None
-    text = (
-        f"{mech.name} ({args.n}x{args.n} grid): constant-orientation area "
-        f"{res['constant_orientation_area']:.5g} m^2"
-        + (f" (phi = {args.phi:g} rad)" if res["phi"] is not None else "")
-        + f", total {res['total_area']:.5g} m^2, reachable {res['reachable_area']:.5g} m^2"
-    )
-    emit(args, res, text + (f"\nwrote {args.plot}" if args.plot else ""))
+        q = named.get("regular", named.get("home", singularity_report.base_configuration(mech)))
+    rep = mech.family.accuracy_report(mech, q) or accuracy.sensitivities(mech, q)
+    lines = []
+    for r in rep["rows"]:
+        if "parameter" in r:
+            lines.append(
+                f"{r['parameter']:<26} {r['kind']:<14} tool {r['tool_per_error']:.3g} m, "
+                f"RCM line {r['rcm_per_error']:.3g} m"
+            )
+        else:
+            lines.append(
+                f"{r['joint']:<12} {r['component']:<3} output {r['linear_output']:.3g} "
+                f"(nonlinear {r['nonlinear_output']:.3g})"
+            )
+    emit(args, rep, "\n".join(lines))
     return 0

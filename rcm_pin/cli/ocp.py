@@ -1,4 +1,9 @@
-"""``rcm-pin ocp ik | track``: the CasADi layer (numerical IK, tracking OCP) from the CLI."""
+"""``rcm-pin ocp ik | track``: the CasADi layer (numerical IK, tracking OCP) from the CLI.
+
+``ocp ik NAME`` takes every catalogue entry: serial mechanisms ``--xyz`` [``--rpy``] (the
+tool frame), closed ones ``--pose`` with their output coordinates (e.g. ``--pose
+0.01,0.02,0.1`` = x, y, rz for planar_3rrr), the loop closures as equality constraints.
+"""
 
 from __future__ import annotations
 
@@ -13,16 +18,24 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("ocp", help="CasADi problems: numerical IK NLP, tracking OCP")
     ocp_sub = p.add_subparsers(dest="ocp_command", required=True, metavar="PROBLEM")
 
-    ik = ocp_sub.add_parser("ik", help="numerical IK of the tool frame (LM / IPOPT / SQP)")
+    ik = ocp_sub.add_parser(
+        "ik",
+        help="numerical IK of the tool frame or a closed mechanism's output (LM / IPOPT / SQP)",
+    )
     add_common(ik)
-    ik.add_argument("--xyz", required=True, help="tool-centre position x,y,z [m]")
-    ik.add_argument("--rpy", help="alpha,beta,gamma [rad], R = Rz(gamma)Ry(beta)Rx(alpha)")
-    ik.add_argument("--q0", help="initial guess q1,...,qn (default: restarts from the middle)")
+    ik.add_argument("--xyz", help="serial: tool-centre position x,y,z [m]")
+    ik.add_argument("--rpy", help="serial: alpha,beta,gamma [rad], R = Rz(gamma)Ry(beta)Rx(alpha)")
+    ik.add_argument("--pose", help="closed: values of its output coordinates, e.g. x,y,rz [m, rad]")
+    ik.add_argument(
+        "--q0", help="initial guess q1,...,qn (default: mid-range; closed: the home configuration)"
+    )
     ik.add_argument("--solver", default="auto", choices=("auto", "lm", "ipopt", "sqpmethod"))
     ik.set_defaults(func=cmd_ik)
 
     tr = ocp_sub.add_parser("track", help="paper 000 tracking OCP (direct collocation)")
-    tr.add_argument("name", nargs="?", default="rcm_bevel", metavar="NAME")
+    from ocp.paper000 import MECHANISM
+
+    tr.add_argument("name", nargs="?", default=MECHANISM, metavar="NAME")
     tr.add_argument("--n", type=int, default=100, help="collocation intervals (default 100)")
     tr.add_argument("--solver", default="ipopt", choices=("ipopt", "fatrop"))
     tr.add_argument(
@@ -39,8 +52,9 @@ def cmd_ik(args: argparse.Namespace) -> int:
 
     payload = ik_command(
         args.name,
-        parse_vector(args.xyz, "xyz", 3),
+        None if args.xyz is None else parse_vector(args.xyz, "xyz", 3),
         rpy=None if args.rpy is None else parse_vector(args.rpy, "rpy", 3),
+        pose=None if args.pose is None else parse_vector(args.pose, "pose"),
         q0=None if args.q0 is None else parse_vector(args.q0, "q0"),
         solver=args.solver,
         xacro_args=parse_xacro_args(args.arg),

@@ -18,7 +18,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def cmd_reproduce(args: argparse.Namespace) -> int:
-    from rcm_pin.report import write_report
+    from rcm_pin.report.writer import write_report
 
     path = write_report(args.out, only=args.only, quiet=args.json)
     emit(args, {"report": str(path)}, f"report written to {path}")

@@ -1,20 +1,25 @@
-"""``rcm-pin view``: show a mechanism in Meshcat, export static HTML or a PNG."""
+"""``rcm-pin view``: show any mechanism in Meshcat, export static HTML or a PNG.
+
+One path for every mechanism: ``--q`` is the input vector (``mech.input_names``: the
+coordinates of a serial mechanism, the drive values of a closed one); the
+:class:`rcm_pin.viz.Viewer` closes the loops (:meth:`~rcm_pin.viz.Viewer.display_inputs`)
+and says when ``--assembly`` has no meaning.
+"""
 
 from __future__ import annotations
 
 import argparse
 import time
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from rcm_pin.cli._common import add_common, emit, fmt, parse_vector, parse_xacro_args
+from rcm_pin.cli._common import add_common, emit, fmt, load_mechanism, parse_vector
 from rcm_pin.errors import InvalidInputError
-from rcm_pin.mechanism import load
 
 if TYPE_CHECKING:
-    from rcm_pin.viz_base import MeshcatScene
+    from rcm_pin.viz.viewer import Viewer
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -26,16 +31,19 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_common(p)
     p.add_argument(
         "--q",
-        help="q1,...,qn [rad, m] (default: zeros clipped to the limits); closed loops "
-        "(planar_3rrr, five_bar): drive angles, passive joints solved (default: home pose)",
+        help="the inputs [rad, m]: q1,...,qn of a serial mechanism, the drive values of a "
+        "closed one (passive joints solved); default: the home configuration",
     )
     p.add_argument(
-        "--assembly", type=int, default=0, help="closed loops: assembly mode index (default 0)"
+        "--assembly",
+        type=int,
+        default=0,
+        help="mechanisms with loops: assembly mode index for the inputs (default 0)",
     )
     p.add_argument(
         "--traj",
         type=Path,
-        help="animate the rows of a .npy / .csv file of q (closed loops: rows of drives)",
+        help="animate the rows of a .npy / .csv file of inputs (as --q)",
     )
     p.add_argument("--dt", type=float, default=0.05, help="time between --traj rows [s]")
     p.add_argument("--html", type=Path, help="write a self-contained static HTML page")
@@ -49,7 +57,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=cmd_view)
 
 
-def _load_traj(path: Path, nq: int) -> np.ndarray:
+def _load_traj(path: Path, n: int) -> np.ndarray:
     if not path.exists():
         raise InvalidInputError(f"--traj {path} does not exist; valid: a .npy or .csv file")
     try:
@@ -57,86 +65,53 @@ def _load_traj(path: Path, nq: int) -> np.ndarray:
     except ValueError as exc:
         raise InvalidInputError(f"--traj {path} is not numeric: {exc}") from None
     arr = np.atleast_2d(np.asarray(raw, dtype=float))
-    if arr.ndim != 2 or arr.shape[1] != nq:
-        raise InvalidInputError(f"--traj has shape {arr.shape}; valid: (N, {nq}) rows of q")
+    if arr.ndim != 2 or arr.shape[1] != n:
+        raise InvalidInputError(f"--traj has shape {arr.shape}; valid: (N, {n}) rows of q")
     return arr
 
 
 def cmd_view(args: argparse.Namespace) -> int:
-    from rcm_pin.cli.analysis import is_closed
-    from rcm_pin.viz import Viewer
-    from rcm_pin.viz_snapshot import snapshot
+    """Show the inputs' configuration; write ``--html`` / ``--png`` or serve it live.
 
-    if is_closed(args.name):
-        return _closed_view(args)
-    if args.assembly != 0:
-        raise InvalidInputError(
-            f"--assembly applies to closed mechanisms only; {args.name} is serial"
-        )
-    mech = load(args.name, **parse_xacro_args(args.arg))
-    if args.q is not None:
-        q = parse_vector(args.q, "q", mech.nq)
-    else:
-        q = np.clip(np.zeros(mech.nq), mech.lower, mech.upper)
-    traj = _load_traj(args.traj, mech.nq) if args.traj is not None else None
+    JSON keys: ``mechanism``, ``input_names``, ``q`` (inputs), ``q_full`` (coordinates),
+    ``coordinates``, ``joint_names``, ``assembly`` (label), ``closure_gap`` [m], ``html``,
+    ``png``, ``png_method`` (with ``--png``), ``url`` (live).
+    """
+    from rcm_pin.viz.snapshot import snapshot
+    from rcm_pin.viz.viewer import Viewer
+
+    mech = load_mechanism(args)
+    n_inputs = len(mech.input_names)
+    inputs = parse_vector(args.q, "q", n_inputs) if args.q is not None else None
+    traj = _load_traj(args.traj, n_inputs) if args.traj is not None else None
     live = args.html is None and args.png is None
-    payload: dict[str, object] = {"mechanism": mech.name, "q": q, "html": None, "png": None}
     with Viewer(mech, server=live, snapshot_style=not live) as viewer:
-        if mech.rcm_frame_id >= 0:
-            viewer.show_rcm()
-            viewer.show_tool_axis()
-        viewer.display(q)
+        if inputs is not None or args.assembly != 0:
+            viewer.display_inputs(viewer.inputs if inputs is None else inputs, args.assembly)
         viewer.fit_camera()
-        if traj is not None:
-            viewer.animate(traj, args.dt, repetitions=1 if not live else 1000)
-        if _publish(viewer, args, payload, mech.name):
-            return 0
-    if args.png is not None:
-        payload["png"] = str(args.png)
-        payload["png_method"] = snapshot(mech, q, args.png)
-    lines = [f"{mech.name} at q = {fmt(q)}"]
-    lines += [f"wrote {payload[k]}" for k in ("html", "png") if payload[k]]
-    emit(args, payload, "\n".join(lines))
-    return 0
-
-
-def _closed_view(args: argparse.Namespace) -> int:
-    from rcm_pin.closed_loop import direct_position_path, load_closed
-    from rcm_pin.viz_closed import ClosedViewer, snapshot_closed
-
-    xargs = parse_xacro_args(args.arg)
-    mech = load_closed(args.name, **xargs)
-    live = args.html is None and args.png is None
-    with ClosedViewer(mech, xacro_args=xargs, server=live, snapshot_style=not live) as viewer:
-        if args.q is not None:
-            viewer.display(parse_vector(args.q, "q", mech.dof), args.assembly)
-        elif args.assembly != 0:
-            raise InvalidInputError("--assembly needs --q (drive angles)")
-        viewer.fit_camera()
-        q_full = viewer.q.copy()
-        payload: dict[str, object] = {
+        q = viewer.q.copy()
+        payload: dict[str, Any] = {
             "mechanism": mech.name,
-            "q": viewer.q_drives,
-            "q_full": q_full,
-            "joint_names": list(mech.model.names[1:]),
+            "input_names": list(mech.input_names),
+            "q": viewer.inputs,
+            "q_full": q,
+            "coordinates": list(mech.coordinate_names),
+            "joint_names": list(mech.joint_names),
             "assembly": viewer.assembly,
             "closure_gap": viewer.closure_gap(),
             "html": None,
             "png": None,
         }
-        if args.traj is not None:
-            drives = _load_traj(args.traj, mech.dof)
-            path = direct_position_path(mech, drives, q_full)
-            viewer.animate(path, args.dt, repetitions=1 if not live else 1000)
-        if _publish(viewer, args, payload, mech.name):
+        if traj is not None:
+            viewer.animate(viewer.input_path(traj), args.dt, repetitions=1000 if live else 1)
+        if _publish(viewer, args, payload):
             return 0
-        if args.png is not None:
-            viewer.display_full(q_full)
-            payload["png_method"] = snapshot_closed(viewer, args.png)
-            payload["png"] = str(args.png)
+    if args.png is not None:
+        payload["png_method"] = snapshot(mech, q, args.png)
+        payload["png"] = str(args.png)
     lines = [
-        f"{mech.name} at drives {fmt(viewer.q_drives)} ({viewer.assembly}), "
-        f"closure gap {payload['closure_gap']:.1e} m"
+        f"{mech.name} at {', '.join(mech.input_names)} = {fmt(payload['q'])} "
+        f"({payload['assembly']}), closure gap {payload['closure_gap']:.1e} m"
     ]
     lines += [f"wrote {payload[k]}" for k in ("html", "png") if payload[k]]
     emit(args, payload, "\n".join(lines))
@@ -152,7 +127,7 @@ def _serve(seconds: float | None) -> None:
         pass
 
 
-def _publish(viewer: MeshcatScene, args: argparse.Namespace, payload: dict, name: str) -> bool:
+def _publish(viewer: Viewer, args: argparse.Namespace, payload: dict[str, Any]) -> bool:
     """Write ``--html``; with a live viewer print its address and serve until stopped.
 
     Returns:
@@ -163,6 +138,6 @@ def _publish(viewer: MeshcatScene, args: argparse.Namespace, payload: dict, name
     if viewer.url is None:
         return False
     payload["url"] = viewer.url
-    emit(args, payload, f"Meshcat viewer of {name} at {viewer.url} (Ctrl-C stops)")
+    emit(args, payload, f"Meshcat viewer of {viewer.mech.name} at {viewer.url} (Ctrl-C stops)")
     _serve(args.seconds)
     return True

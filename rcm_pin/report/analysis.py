@@ -6,15 +6,17 @@ from pathlib import Path
 
 import numpy as np
 
-from rcm_pin import accuracy, singularity, workspace
-from rcm_pin.mechanism import load
-from rcm_pin.report import Comparison, Section, comparison_table
+from rcm_pin.analysis import singularity
+from rcm_pin.catalog import load
+from rcm_pin.mechanisms.rcm import accuracy, workspace
+from rcm_pin.mechanisms.rcm.singularity import paper_claims
+from rcm_pin.report.framework import Comparison, Section, comparison_table
 
 
 def section(out_dir: Path) -> Section:
     """Singularity verdicts by rank, workspace volume and rig-spec check, RCM sensitivities."""
     mech = load("rcm_bevel")
-    claims = singularity.paper_claims(mech)
+    claims = paper_claims(mech)
     lines = [
         "| claim (003) | q | rank full / position | verdict | why |",
         "| --- | --- | --- | --- | --- |",
@@ -70,7 +72,7 @@ def section(out_dir: Path) -> Section:
     fig.savefig(grid_png, dpi=100)
     plt.close(fig)
     q_acc = np.array([0.5 * mech.upper[0], 0.8 * mech.upper[1], 0.085, 0.0, 0.5, 0.0])
-    acc = accuracy.report("rcm_bevel", q_acc)["rows"]
+    acc = accuracy.report(mech, q_acc)["rows"]
     top = [r for r in acc if r["rcm_per_error"] > 1e-9][:8]
     acc_lines = [
         "| error | unit | tool centre moves [mm] | RCM line misses A by [mm] |",

@@ -7,23 +7,35 @@ curves of Fig. 4), so the rows are "new" computations next to the linear theory.
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
-from rcm_pin.control import ComputedTorque, Gains, drive_limits, linear_error
-from rcm_pin.dynamics import inverse_dynamics, with_gravity
-from rcm_pin.mechanism import load
-from rcm_pin.report import Comparison, Section, comparison_table
-from rcm_pin.simulation import SimulationResult, simulate
-from rcm_pin.simulation_plots import plot_deviation, plot_efforts, plot_phase
-from rcm_pin.trajectories import TRAJECTORIES, joint_reference
-from rcm_pin.two_mass import load_two_mass
+from rcm_pin.catalog import load
+from rcm_pin.control.computed_torque import ComputedTorque, Gains, drive_limits
+from rcm_pin.control.linear import linear_error
+from rcm_pin.control.plots import plot_deviation, plot_efforts, plot_phase
+from rcm_pin.control.references import TRAJECTORIES
+from rcm_pin.control.result import SimulationResult
+from rcm_pin.control.simulate import simulate
+from rcm_pin.dynamics.tree import inverse_dynamics, with_gravity
+from rcm_pin.mechanisms.rcm.point import joint_reference
+from rcm_pin.mechanisms.rcm.two_mass import two_mass_args
+from rcm_pin.model.mechanism import Mechanism
+from rcm_pin.report.framework import Comparison, Section, comparison_table
 
 GAINS = Gains(720.0, 12.0)  # paper 000
 L_DEFAULT = 0.2  # [m] = l9, not given by the paper
 DURATION = 3.0  # [s]
 STEADY_FROM = 2.0  # [s]
 SCALES = (0.8, 0.9, 1.1, 1.2)
+
+
+def load_two_mass(m: float = 0.4, m_d: float = 0.2, L: float = 0.2,
+                  **xacro_args: object) -> Mechanism:  # fmt: skip
+    """``rcm_two_mass`` with m, m_d, L given directly (see ``two_mass_args``)."""
+    args: dict[str, Any] = {**two_mass_args(m, m_d, L), **xacro_args}
+    return load("rcm_two_mass", **args)
 
 
 def _paper_run(feedforward: bool, printed: bool = False, space: str = "task") -> SimulationResult:

@@ -6,12 +6,11 @@ from pathlib import Path
 
 import numpy as np
 
-from rcm_pin.catalog import mechanisms
-from rcm_pin.inverse import solve_ik
-from rcm_pin.kinematics import tool_pose
-from rcm_pin.mechanism import load
-from rcm_pin.mobility import mobility, somov_malyshev
-from rcm_pin.report import Comparison, Section, comparison_table
+from rcm_pin.analysis.kinematics import tool_pose
+from rcm_pin.analysis.mobility import mobility, somov_malyshev
+from rcm_pin.catalog import load, mechanisms
+from rcm_pin.mechanisms.rcm.inverse import solve_ik
+from rcm_pin.report.framework import Comparison, Section, comparison_table
 
 #: Paper 000, position example: the target A_b as printed (rounded to 3 decimals).
 A_B = np.array(

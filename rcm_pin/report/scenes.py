@@ -1,8 +1,9 @@
 """Report section: pictures of the RCM mechanisms (Meshcat scenes, PNG snapshots).
 
-Each scene is built with :class:`rcm_pin.viz.Viewer` (mimic model, RCM marker, tool
-axis), exported as static HTML and photographed by headless Chromium; without Chromium
-a matplotlib line drawing of the joint frames is embedded instead, and the text says so.
+Each scene is built with :class:`rcm_pin.viz.Viewer` (mimic model, RCM marker, tool axis),
+exported as static HTML and photographed by headless Chromium; without Chromium a
+matplotlib line drawing of the joint frames is embedded instead, and the text says so
+(:func:`rcm_pin.viz.snapshot.snapshot`, the browser-else-fallback picture of every mechanism).
 """
 
 from __future__ import annotations
@@ -11,10 +12,10 @@ from pathlib import Path
 
 import numpy as np
 
-from rcm_pin.kinematics import rcm_error, tool_pose
-from rcm_pin.mechanism import load
-from rcm_pin.report import Section
-from rcm_pin.viz_snapshot import snapshot
+from rcm_pin.analysis.kinematics import rcm_error, tool_pose
+from rcm_pin.catalog import load
+from rcm_pin.report.framework import Section
+from rcm_pin.viz.snapshot import snapshot
 
 #: (mechanism, configuration q1..qn, caption) of every picture.
 SCENES: tuple[tuple[str, tuple[float, ...], str], ...] = (

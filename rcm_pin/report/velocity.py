@@ -6,18 +6,17 @@ from pathlib import Path
 
 import numpy as np
 
-from rcm_pin.closed_form import WristType
-from rcm_pin.errors import SingularConfigurationError
-from rcm_pin.mechanism import load
-from rcm_pin.report import Comparison, Section, comparison_table
-from rcm_pin.velocity import (
-    closed_form_jacobian,
-    coupling_terms,
+from rcm_pin.analysis.velocity import (
     forward,
     inverse_acceleration,
     inverse_velocity,
     omega_from_angle_rates,
 )
+from rcm_pin.catalog import load
+from rcm_pin.errors import SingularConfigurationError
+from rcm_pin.mechanisms.rcm.closed_form import WristType
+from rcm_pin.mechanisms.rcm.velocity import closed_form_jacobian, coupling_terms
+from rcm_pin.report.framework import Comparison, Section, comparison_table
 
 Q = np.array([0.0, 0.0, -0.1, 0.0, 0.0, 0.0])  # x = y = 0, z = -0.1 m
 V = np.ones(3)  # [m/s]

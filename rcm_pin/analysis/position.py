@@ -1,0 +1,195 @@
+"""The position problems of every mechanism: :func:`forward` and :func:`inverse`.
+
+* Serial mechanisms: ``forward`` maps coordinates to the tool pose (Pinocchio forward
+  kinematics); ``inverse`` returns every branch of a tool pose (or of the tool position
+  only) from the family's closed form where it has one (the RCM mechanisms' analytic IK),
+  else from a multistart Levenberg–Marquardt (:mod:`.serial_ik`). Every branch is checked
+  by forward kinematics (the second route) and flagged against the joint limits.
+* Closed mechanisms: ``forward`` (the direct problem) maps drive values to every assembly
+  mode; ``inverse`` maps output coordinates to every working mode. Seeds come from the
+  family's closed form, else from random starts (:mod:`.closed_position`); every solution
+  ends with a Newton polish on Pinocchio's closures and is accepted only with a closure
+  residual below :data:`ACCEPT_TOL`.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import pinocchio as pin
+
+from rcm_pin.analysis import closed_position as cp
+from rcm_pin.analysis.results import PositionResult, PositionSolution, frame_placement
+from rcm_pin.analysis.serial_ik import numeric_branches
+from rcm_pin.errors import SolverError, UnreachablePoseError
+from rcm_pin.model.mechanism import Mechanism
+from rcm_pin.model.output import Output
+
+#: A closed-loop solve is accepted below this closure residual [m].
+ACCEPT_TOL = 1e-12
+#: A serial branch is accepted when its forward kinematics meets the target this well.
+BRANCH_TOL = 1e-9
+
+
+def within_limits(mech: Mechanism, q: np.ndarray, tol: float = 1e-12) -> bool:
+    """Whether every coordinate lies in [lower − tol, upper + tol]."""
+    return bool(np.all(q >= mech.lower - tol) and np.all(q <= mech.upper + tol))
+
+
+def forward(
+    mech: Mechanism, q: Any, all_modes: bool = False, q_guess: Any = None
+) -> PositionResult:
+    """Forward (direct) position problem.
+
+    Args:
+        mech: the mechanism.
+        q: serial: coordinates (n,) [rad, m]; closed: drive values (k,) [rad, m].
+        all_modes: closed: every assembly mode (else the first one).
+        q_guess: closed: full starting configuration (n,); the solve follows its branch.
+
+    Raises:
+        InvalidInputError: wrong shape or non-finite values.
+        UnreachablePoseError: closed: the drives admit no assembly.
+        SolverError: closed: Newton failed from ``q_guess``.
+    """
+    if mech.loops is None:
+        qc = mech.check_q(q)
+        value = mech.output.value(pin.SE3(frame_placement(mech, qc)))
+        sol = PositionSolution(qc, value, "tree", 0.0, 0, within_limits(mech, qc))
+        return PositionResult(
+            mech, "forward", qc, mech.output, (sol,), "Pinocchio forward kinematics"
+        )
+    drives = mech.check_q(q, "drives", mech.loops.dof)
+    if q_guess is not None and not all_modes:
+        q0 = mech.check_q(q_guess, "q_guess")
+        qs, it, res = cp.solve_drives(mech, drives, q0)
+        sols = [_closed_solution(mech, qs, "guess", res, it)]
+        method = "Newton on Pinocchio closures from the guess"
+    else:
+        seeds = mech.family.direct_position(mech, drives)
+        method = "closed-form seeds + Newton on Pinocchio closures"
+        if seeds is None:
+            seeds, method = cp.multistart_seeds(mech, drives), "multistart Newton"
+        sols = []
+        for q0 in seeds:
+            try:
+                qs, it, res = cp.solve_drives(mech, drives, q0)
+            except SolverError:
+                continue
+            sols.append(_closed_solution(mech, qs, f"assembly_{len(sols)}", res, it))
+        sols = cp.dedupe(mech, sols)
+        if not sols:
+            raise UnreachablePoseError(
+                f"{mech.name}: drives {drives.tolist()} admit no assembly (the loops cannot "
+                f"close); valid: drive values inside the workspace of {mech.name}"
+            )
+        sols = sols if all_modes else sols[:1]
+    return PositionResult(mech, "forward", drives, mech.output, tuple(sols), method)
+
+
+def _closed_solution(
+    mech: Mechanism, q: np.ndarray, label: str, res: float, it: int
+) -> PositionSolution:
+    return PositionSolution(q, mech.output_value(q), label, res, it, within_limits(mech, q))
+
+
+def inverse(
+    mech: Mechanism,
+    target: Any,
+    coords: tuple[str, ...] | None = None,
+    *,
+    limits: bool = False,
+) -> PositionResult:
+    """Inverse position problem: every branch / working mode for an output target.
+
+    Args:
+        mech: the mechanism.
+        target: value of the output coordinates (``mech.output``: serial the tool pose as
+            x, y, z and R, or a 4×4 / 3×4 matrix; closed the sidecar's output coordinates,
+            a rotation as 9 numbers or a 3×3 matrix).
+        coords: a subset of the output coordinates to solve for (e.g. ``("x", "y", "z")``:
+            the tool position only; the other coordinates are free and left at 0).
+        limits: keep only the solutions inside the joint limits.
+
+    Raises:
+        InvalidInputError: malformed target.
+        NotARotationError: a rotation too far from SO(3).
+        SingularConfigurationError: a degenerate target (the family names the cause).
+        UnreachablePoseError: no solution (or none inside the limits with ``limits``).
+    """
+    output = mech.output if coords is None else mech.output.subset(tuple(coords))
+    value = output.coerce(_as_value(output, target))
+    branches = mech.family.inverse_position(mech, value, output)
+    if mech.loops is None:
+        method = "closed form, checked by Pinocchio forward kinematics"
+        if branches is None:
+            branches, method = numeric_branches(mech, value, output), "multistart LM"
+        sols = []
+        for b in branches:
+            q = mech.check_q(b.q, "branch")
+            value_q = output.value(_placement(mech, q))  # the second route: Pinocchio FK
+            res = float(np.max(np.abs(output.error(value_q, value)), initial=0.0))
+            if res > BRANCH_TOL:
+                raise SolverError(
+                    f"{mech.name}: branch {b.label} misses the target by {res:.2e} "
+                    f"(> {BRANCH_TOL:g}) in forward kinematics"
+                )
+            sols.append(PositionSolution(q, value_q, b.label, res, 0, within_limits(mech, q)))
+    else:
+        method = "closed-form seeds + Newton polish on Pinocchio closures"
+        numeric = branches is None
+        if branches is None:
+            branches, method = cp.inverse_seeds(mech, value, output), "multistart Newton"
+        sols = []
+        for b in branches:
+            q, it, res = cp.polish(mech, value, output, b.q)
+            if res >= ACCEPT_TOL:
+                raise SolverError(f"{mech.name}: inverse polish residual {res:.2e} m for {b.label}")
+            value_q = output.value(_placement(mech, q))
+            sols.append(PositionSolution(q, value_q, b.label, res, it, within_limits(mech, q)))
+        if numeric:  # closed-form working modes stay distinct by label, even where they meet
+            sols = cp.dedupe(mech, sols)
+    if not sols:
+        raise UnreachablePoseError(
+            f"{mech.name}: target {output.to_json(value)} is outside the workspace (no "
+            f"{'branch' if mech.loops is None else 'working mode'} reaches it)"
+        )
+    if limits:
+        inside = [s for s in sols if s.within_limits]
+        if not inside:
+            raise UnreachablePoseError(
+                f"{mech.name}: no solution of target {output.to_json(value)} lies within the "
+                f"joint limits lower={np.round(mech.lower, 6).tolist()}, upper="
+                f"{np.round(mech.upper, 6).tolist()} ({len(sols)} outside)"
+            )
+        sols = inside
+    return PositionResult(mech, "inverse", value, output, tuple(sols), method)
+
+
+def _placement(mech: Mechanism, q: np.ndarray) -> pin.SE3:
+    """World placement of the output frame at Mechanism coordinates q."""
+    pin.forwardKinematics(mech.model, mech.data, mech.q_pin(q))
+    return pin.updateFramePlacement(mech.model, mech.data, mech.output.frame_id)
+
+
+def _as_value(output: Output, target: Any) -> Any:
+    """A homogeneous matrix as the value vector of a pose output (x, y, z, R)."""
+    arr = np.asarray(target, dtype=object)
+    if output.coords == ("x", "y", "z", "rotation") and arr.shape in ((4, 4), (3, 4)):
+        from rcm_pin.rotations import pose_from_matrix
+
+        R, p = pose_from_matrix(np.asarray(target, dtype=float))
+        return np.concatenate([p, R.reshape(9)])
+    return target
+
+
+__all__ = [
+    "ACCEPT_TOL",
+    "PositionResult",
+    "PositionSolution",
+    "forward",
+    "frame_placement",
+    "inverse",
+    "within_limits",
+]

@@ -1,0 +1,107 @@
+"""Result types of the position problems (:mod:`rcm_pin.analysis.position`)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+import pinocchio as pin
+
+from rcm_pin.model.mechanism import Mechanism
+from rcm_pin.model.output import Output
+
+
+@dataclass(frozen=True)
+class PositionSolution:
+    """One solution: coordinates, output value, label, residual, iterations, limits.
+
+    Attributes:
+        q: Mechanism coordinates (n,) [rad, m].
+        output: value of the output coordinates (layout of the result's ``output``).
+        mode: branch, working-mode or assembly-mode label.
+        residual: closure residual (closed) or output error vs the target [m, rad].
+        iterations: Newton iterations of the polish (0 for closed forms).
+        within_limits: every coordinate inside its joint limits.
+    """
+
+    q: np.ndarray
+    output: np.ndarray
+    mode: str
+    residual: float
+    iterations: int
+    within_limits: bool
+
+
+@dataclass(frozen=True)
+class PositionResult:
+    """Every solution of one position problem (``kind`` = ``forward`` or ``inverse``)."""
+
+    mechanism: Mechanism
+    kind: str
+    given: np.ndarray
+    output: Output
+    solutions: tuple[PositionSolution, ...]
+    method: str
+
+    @property
+    def count(self) -> int:
+        """Number of distinct solutions."""
+        return len(self.solutions)
+
+    def inputs(self, sol: PositionSolution) -> np.ndarray:
+        """Input vector of a solution, as :func:`rcm_pin.forward` takes it: the drive values
+        (closed) or the coordinates (serial) [rad, m]."""
+        loops = self.mechanism.loops
+        return sol.q.copy() if loops is None else sol.q[loops.drive_q].copy()
+
+    def drives(self, sol: PositionSolution) -> dict[str, float]:
+        """Drive values of a solution by drive name (serial: every coordinate)."""
+        mech = self.mechanism
+        if mech.loops is None:
+            return dict(zip(mech.coordinate_names, sol.q.tolist(), strict=True))
+        return dict(zip(mech.loops.drives, sol.q[mech.loops.drive_q].tolist(), strict=True))
+
+    def to_json(self) -> dict[str, Any]:
+        """Plain dict for the CLI and the report (schema in ``docs/cli.md``)."""
+        mech = self.mechanism
+        return {
+            "mechanism": mech.name,
+            "kind": self.kind,
+            "given": self.given.tolist(),
+            "method": self.method,
+            "coordinates": list(mech.coordinate_names),
+            "joint_names": list(mech.joint_names),
+            "drive_names": list(mech.input_names),
+            "output_frame": self.output.frame,
+            "output_coords": list(self.output.coords),
+            "count": self.count,
+            "solutions": [self._solution_json(s) for s in self.solutions],
+        }
+
+    def _solution_json(self, sol: PositionSolution) -> dict[str, Any]:
+        mech = self.mechanism
+        out: dict[str, Any] = {
+            "mode": sol.mode,
+            "q": sol.q.tolist(),
+            "drives": self.drives(sol),
+            "output": self.output.to_json(sol.output),
+            "pose": frame_placement(mech, sol.q).tolist(),
+            "residual": sol.residual,
+            "iterations": sol.iterations,
+            "within_limits": sol.within_limits,
+        }
+        if mech.rcm is not None:
+            from rcm_pin.analysis.kinematics import rcm_error
+
+            out["rcm_error"] = rcm_error(mech, sol.q)
+        return out
+
+
+def frame_placement(mech: Mechanism, q: np.ndarray) -> np.ndarray:
+    """4×4 world placement of the output (tool) frame at coordinates q."""
+    pin.forwardKinematics(mech.model, mech.data, mech.q_pin(q))
+    return pin.updateFramePlacement(mech.model, mech.data, mech.output.frame_id).homogeneous
+
+
+__all__ = ["PositionResult", "PositionSolution", "frame_placement"]

@@ -1,0 +1,134 @@
+"""Workspace of any mechanism: sampled output points, their extent and voxel volume.
+
+The numeric route samples the inputs uniformly within their limits (coordinates of a serial
+mechanism; drives of a closed one, whose first assembly mode is kept) and maps them to the
+output frame's position by Pinocchio (:func:`rcm_pin.analysis.position.forward`). The
+occupied-voxel volume of the point cloud is an upper estimate that converges as the voxels
+shrink and the samples grow. A family with closed forms adds its own figures (the RCM
+mechanisms' analytic volume and rig specification, the planar mechanisms' areas) through
+:meth:`rcm_pin.model.family.Family.workspace_summary`.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pinocchio as pin
+
+from rcm_pin.errors import InvalidInputError, RcmPinError
+from rcm_pin.model.mechanism import Mechanism
+from rcm_pin.rotations import FloatArray
+
+#: Largest sample count accepted (memory: one (N, nq) array and one (N, 3) array).
+MAX_SAMPLES = 5_000_000
+
+
+def _box(mech: Mechanism, idx: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    lo = np.where(np.isfinite(mech.lower[idx]), mech.lower[idx], -np.pi)
+    hi = np.where(np.isfinite(mech.upper[idx]), mech.upper[idx], np.pi)
+    return np.maximum(lo, -np.pi), np.minimum(hi, np.pi)
+
+
+def sample_joints(mech: Mechanism, n: int, seed: int = 0) -> FloatArray:
+    """n uniform samples of the inputs within their limits, (n, k) (drives if closed).
+
+    Raises:
+        InvalidInputError: n outside 1..MAX_SAMPLES.
+    """
+    if not 1 <= n <= MAX_SAMPLES:
+        raise InvalidInputError(f"sample count {n}; valid: 1..{MAX_SAMPLES}")
+    rng = np.random.default_rng(seed)
+    if mech.loops is None:
+        return rng.uniform(mech.lower, mech.upper, size=(n, mech.nq))
+    lo, hi = _box(mech, mech.loops.drive_q)
+    return rng.uniform(lo, hi, size=(n, mech.loops.dof))
+
+
+def output_points(mech: Mechanism, inputs: FloatArray) -> FloatArray:
+    """World positions (N, 3) of the output frame for each input row (NaN where a closed
+    mechanism does not assemble)."""
+    from rcm_pin.analysis.position import forward
+
+    out = np.full((len(inputs), 3), np.nan)
+    model, data, fid = mech.model, mech.data, mech.output.frame_id
+    for i, row in enumerate(inputs):
+        if mech.loops is None:
+            pin.forwardKinematics(model, data, mech.q_pin(row))
+            out[i] = pin.updateFramePlacement(model, data, fid).translation
+            continue
+        try:
+            q = forward(mech, row).solutions[0].q
+        except RcmPinError:
+            continue
+        pin.forwardKinematics(model, data, q)
+        out[i] = pin.updateFramePlacement(model, data, fid).translation
+    return out
+
+
+def volume_voxels(points: FloatArray, voxel: float) -> float:
+    """Occupied-voxel volume of a point cloud [m³] (voxel edge ``voxel`` [m])."""
+    if voxel <= 0:
+        raise InvalidInputError(f"voxel edge {voxel}; valid: > 0")
+    pts = points[np.all(np.isfinite(points), axis=1)]
+    cells = np.unique(np.floor(pts / voxel).astype(np.int64), axis=0)
+    return float(len(cells) * voxel**3)
+
+
+def summary(
+    mech: Mechanism, samples: int = 200_000, seed: int = 0, **options: Any
+) -> dict[str, Any]:
+    """The family's workspace figures, or the sampled cloud's extent and voxel volume.
+
+    Raises:
+        InvalidInputError: a grid option ``n`` below 5, or a bad sample count.
+    """
+    if int(options.get("n", 5)) < 5:
+        raise InvalidInputError(f"grid size {options['n']}; valid: >= 5 points per side")
+    family = mech.family.workspace_summary(mech, samples=samples, seed=seed, **options)
+    if family is not None:
+        return {"mechanism": mech.name, **family}
+    pts = output_points(mech, sample_joints(mech, samples, seed))
+    ok = np.all(np.isfinite(pts), axis=1)
+    if not ok.any():
+        raise InvalidInputError(f"{mech.name}: no sample assembled; the workspace is empty")
+    voxel = 0.004  # [m]
+    return {
+        "mechanism": mech.name,
+        "samples": samples,
+        "assembled_fraction": float(ok.mean()),
+        "volume_voxels": volume_voxels(pts[ok], voxel),
+        "voxel_edge": voxel,
+        "extent_min": pts[ok].min(axis=0),
+        "extent_max": pts[ok].max(axis=0),
+    }
+
+
+def plot(
+    mech: Mechanism, path: Path, samples: int = 200_000, seed: int = 0, **options: Any
+) -> Path:
+    """The family's workspace figure, or three projections of the sampled cloud."""
+    drawn = mech.family.plot_workspace(mech, Path(path), samples=samples, seed=seed, **options)
+    if drawn is not None:
+        return drawn
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    pts = output_points(mech, sample_joints(mech, min(samples, 20_000), seed))
+    pts = pts[np.all(np.isfinite(pts), axis=1)]
+    fig, axes = plt.subplots(1, 3, figsize=(15, 5))
+    for ax, (i, j) in zip(axes, ((0, 1), (0, 2), (1, 2)), strict=True):
+        ax.scatter(pts[:, i], pts[:, j], s=0.3, alpha=0.3)
+        ax.set(xlabel=f"{'xyz'[i]} [m]", ylabel=f"{'xyz'[j]} [m]", aspect="equal")
+        ax.grid(alpha=0.3)
+    fig.suptitle(f"{mech.name}: sampled positions of {mech.output.frame}")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return Path(path)
+
+
+__all__ = ["MAX_SAMPLES", "output_points", "plot", "sample_joints", "summary", "volume_voxels"]

@@ -1,0 +1,195 @@
+"""``rcm_pin.load``: a catalogue name or a file path to a :class:`Mechanism`.
+
+Names and paths never mix: a catalogue name always means the catalogue entry (a file or
+folder of that name in the working directory is ignored); a path is anything with a path
+separator or a ``.urdf`` / ``.xacro`` suffix (or a :class:`pathlib.Path`). A bare word that
+is no catalogue name raises :class:`~rcm_pin.errors.UnknownMechanismError` with the valid
+names.
+
+A path's tool frame comes from the ``tool_frame`` argument, else the file's ``<rcm_pin>``
+element, else its YAML sidecar (same stem, ``.yaml``); otherwise loading fails with the
+candidate frames listed, never a guess.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+from rcm_pin.catalog.table import CatalogEntry, family_named, get_entry
+from rcm_pin.errors import InvalidInputError, UnknownMechanismError, XacroArgumentError
+from rcm_pin.model.build import build_mechanism, is_path_like
+from rcm_pin.model.mechanism import Mechanism
+from rcm_pin.model.render import render_xacro, validate_args
+from rcm_pin.model.sidecar import Description, description_from_yaml, read_description
+
+
+def load(
+    name_or_path: str | Path,
+    *,
+    tool_frame: str | None = None,
+    rcm_frame: str | None = None,
+    **xacro_args: Any,
+) -> Mechanism:
+    """Load a shipped mechanism by name, or any URDF / xacro file by path.
+
+    Args:
+        name_or_path: a name from :func:`rcm_pin.names` (``rcm_bevel``, ``planar_3rrr``,
+            ``panda``, ...) or a path to a ``.urdf`` / ``.xacro`` file.
+        tool_frame: the tool (output) frame; required for a file that names none.
+        rcm_frame: the frame of the remote centre A, for a file that names none.
+        **xacro_args: xacro arguments (validated against the file's declarations).
+
+    Returns:
+        The :class:`Mechanism`.
+
+    Raises:
+        UnknownMechanismError: a bare name that is not in the catalogue (lists the names).
+        InvalidInputError: a missing or malformed file.
+        XacroArgumentError: unknown, malformed or out-of-range xacro argument.
+        UnknownFrameError: the tool frame is not known (lists the candidate frames).
+    """
+    if isinstance(name_or_path, Path):
+        return _load_path(name_or_path, tool_frame, rcm_frame, xacro_args)
+    if not isinstance(name_or_path, str) or not name_or_path.strip():
+        get_entry(str(name_or_path))  # raises, listing the valid names
+    if is_path_like(name_or_path):
+        return _load_path(Path(name_or_path), tool_frame, rcm_frame, xacro_args)
+    return _load_entry(get_entry(name_or_path), tool_frame, rcm_frame, xacro_args)
+
+
+def from_urdf(
+    urdf: str,
+    name: str = "urdf",
+    *,
+    tool_frame: str | None = None,
+    rcm_frame: str | None = None,
+) -> Mechanism:
+    """A Mechanism from URDF text (its ``<rcm_pin>`` element names family and frames).
+
+    Raises:
+        InvalidInputError: malformed URDF.
+        UnknownFrameError: the tool frame is not known (lists the candidate frames).
+    """
+    desc = read_description(urdf)
+    return build_mechanism(
+        urdf,
+        name=name,
+        description=desc,
+        family=family_named(desc.family),
+        tool_frame=tool_frame,
+        rcm_frame=rcm_frame,
+    )
+
+
+def _load_entry(
+    entry: CatalogEntry, tool_frame: str | None, rcm_frame: str | None, xacro_args: dict[str, Any]
+) -> Mechanism:
+    if not entry.xacro:
+        if xacro_args:
+            raise XacroArgumentError(
+                f"{entry.name} is a plain URDF ({entry.urdf_path.name}); it takes no xacro "
+                f"arguments, got {', '.join(sorted(xacro_args))}"
+            )
+        urdf = _read(entry.urdf_path)
+        desc = Description(tool_frame=entry.tool_frame)
+        return build_mechanism(
+            urdf,
+            name=entry.name,
+            description=desc,
+            family=entry.family,
+            tool_frame=tool_frame,
+            rcm_frame=rcm_frame,
+        )
+    for key in entry.fixed_args:
+        if key in xacro_args:
+            raise XacroArgumentError(
+                f"xacro argument {key!r} is fixed by mechanism {entry.name} "
+                f"({key}={entry.fixed_args[key]}); load {entry.xacro} variants by path instead"
+            )
+    args = validate_args(entry.xacro_path, {**entry.fixed_args, **xacro_args})
+    for key in entry.positive_args:
+        if key in args and float(args[key]) <= 0.0:
+            raise XacroArgumentError(
+                f"xacro argument {key}={args[key]} must be > 0 for {entry.name}; "
+                "valid: a positive number"
+            )
+    urdf = render_xacro(entry.xacro_path, args)
+
+    def rebuild(**more: Any) -> Mechanism:
+        return load(
+            entry.name, tool_frame=tool_frame, rcm_frame=rcm_frame, **{**xacro_args, **more}
+        )
+
+    return build_mechanism(
+        urdf,
+        name=entry.name,
+        description=read_description(urdf),
+        family=entry.family,
+        args=args,
+        tool_frame=tool_frame,
+        rcm_frame=rcm_frame,
+        rebuild=rebuild,
+        source=entry.xacro_path,
+    )
+
+
+def _read(path: Path) -> str:
+    if not path.is_file():
+        what = "a folder" if path.is_dir() else "no file"
+        raise InvalidInputError(f"{path} is {what}; valid: an existing .urdf or .xacro file")
+    try:
+        return path.read_text()
+    except (OSError, UnicodeDecodeError) as exc:
+        raise InvalidInputError(f"cannot read {path}: {exc}") from None
+
+
+def _load_path(
+    path: Path, tool_frame: str | None, rcm_frame: str | None, xacro_args: dict[str, Any]
+) -> Mechanism:
+    if path.suffix not in (".urdf", ".xacro"):
+        raise UnknownMechanismError(
+            f"{str(path)!r} is neither a catalogue name nor a .urdf / .xacro file; valid: "
+            "a name from `rcm-pin list` or a path ending in .urdf or .xacro"
+        )
+    if path.suffix == ".xacro":
+        _read(path)
+        urdf = render_xacro(path, xacro_args)
+        args = dict(validate_args(path, xacro_args))
+    else:
+        if xacro_args:
+            raise XacroArgumentError(
+                f"xacro arguments {', '.join(sorted(xacro_args))} given for plain URDF {path}"
+            )
+        urdf, args = _read(path), {}
+    desc = read_description(urdf)
+    sidecar = path.with_suffix(".yaml")
+    if desc.loops is None and sidecar.is_file():
+        side = description_from_yaml(_read(sidecar))
+        desc = Description(
+            family=desc.family or side.family,
+            tool_frame=desc.tool_frame or side.tool_frame,
+            rcm_frame=desc.rcm_frame,
+            rcm_axis_frame=desc.rcm_axis_frame,
+            rcm_axis=desc.rcm_axis,
+            coordinates=desc.coordinates,
+            loops=side.loops,
+        )
+
+    def rebuild(**more: Any) -> Mechanism:
+        return load(path, tool_frame=tool_frame, rcm_frame=rcm_frame, **{**xacro_args, **more})
+
+    return build_mechanism(
+        urdf,
+        name=path.name.split(".")[0],
+        description=desc,
+        family=family_named(desc.family),
+        args=args,
+        tool_frame=tool_frame,
+        rcm_frame=rcm_frame,
+        rebuild=rebuild if path.suffix == ".xacro" else None,
+        source=path if path.suffix == ".xacro" else None,
+    )
+
+
+__all__ = ["from_urdf", "load"]

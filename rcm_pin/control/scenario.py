@@ -1,0 +1,160 @@
+"""Simulation scenarios: a reference with the gains, start and solver settings it needs.
+
+A family lists its scenarios (:meth:`rcm_pin.model.family.Family.scenarios`: paper 000's
+tool-centre sinusoid, the 3-RRR's platform circle, the five-bar's path across its type-2
+curve); any mechanism also has :func:`home_circle`, a small circle of its task about the
+home configuration. :func:`run` starts at the reference's start (serial: the task's
+inverse; closed: the working mode ``mode`` of the inverse problem at x_T(0) + ``offset``,
+with ẋ_T(0)) and calls the one :func:`rcm_pin.control.simulate.simulate`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from rcm_pin.control.computed_torque import ComputedTorque, DriveSwitching, Gains, drive_limits
+from rcm_pin.control.references import CartesianTrajectory, Reference
+from rcm_pin.control.result import SimulationResult
+from rcm_pin.control.simulate import simulate
+from rcm_pin.control.task import task_output
+from rcm_pin.errors import InvalidInputError
+from rcm_pin.model.mechanism import Mechanism
+
+
+@dataclass(frozen=True)
+class Scenario:
+    """Everything a simulation run needs besides the mechanism (SI units)."""
+
+    reference: Reference
+    gains: Gains
+    duration: float
+    description: str = ""
+    mode: str | int = 0  # closed: working mode of the start configuration
+    offset: tuple[float, ...] = ()  # initial task error
+    switching: float | None = None  # closed: drive-switching band (None: main drives)
+    limit: float | None = None  # one effort limit for every drive; None: the URDF limits
+    use_limits: bool = True
+    method: str = "DOP853"
+    rtol: float = 1e-10
+    atol: float = 1e-12
+    max_step: float = np.inf
+    samples: int | None = 1001
+
+
+def home_circle(mech: Mechanism) -> Scenario:
+    """A circle of radius L/10 in the first two task coordinates about the home pose, 1 Hz."""
+    from rcm_pin.analysis.position import forward
+
+    home = mech.family.configurations(mech).get("home")
+    if home is None:
+        lo = np.where(np.isfinite(mech.lower), mech.lower, -np.pi)
+        hi = np.where(np.isfinite(mech.upper), mech.upper, np.pi)
+        home = 0.5 * (lo + hi)
+    task = task_output(mech, None)
+    inputs = home if mech.loops is None else home[mech.loops.drive_q]
+    sol = forward(mech, inputs, q_guess=None if mech.loops is None else home).solutions[0]
+    value = task.value(_placement(mech, sol.q))
+    radius = 0.1 * (mech.loops.length_scale if mech.loops is not None else 0.1)
+    amplitude = np.zeros(len(value))
+    amplitude[: min(2, len(value))] = radius
+    phase = np.zeros(len(value))
+    phase[min(1, len(value) - 1)] = np.pi / 2
+    centre = value - amplitude * np.sin(phase)
+    ref = CartesianTrajectory(
+        "home_circle",
+        tuple(float(v) for v in centre),
+        tuple(float(v) for v in amplitude),
+        2 * np.pi,
+        tuple(float(v) for v in phase),
+    )
+    return Scenario(
+        ref,
+        Gains.from_tau_zeta(0.05, 1.0),
+        2.0,
+        f"circle of radius {radius:.3g} (task units: m, rad) about the home pose, 1 Hz",
+    )
+
+
+def _placement(mech: Mechanism, q: np.ndarray) -> Any:
+    import pinocchio as pin
+
+    pin.forwardKinematics(mech.model, mech.data, mech.q_pin(q))
+    return pin.updateFramePlacement(mech.model, mech.data, mech.output.frame_id)
+
+
+def scenarios(mech: Mechanism) -> dict[str, Scenario]:
+    """The family's scenarios, then ``home_circle``."""
+    out = dict(mech.family.scenarios(mech))
+    out.setdefault("home_circle", home_circle(mech))
+    return out
+
+
+def controller(
+    mech: Mechanism,
+    sc: Scenario,
+    *,
+    space: str = "task",
+    feedforward: bool = True,
+    printed_sign: bool = False,
+) -> ComputedTorque:
+    """The computed-torque controller of a scenario."""
+    limits: Any = (
+        sc.limit if sc.limit is not None else (drive_limits(mech) if sc.use_limits else None)
+    )
+    switching = DriveSwitching(sc.switching) if sc.switching is not None else None
+    return ComputedTorque(
+        mech,
+        sc.reference,
+        sc.gains,
+        space=space,
+        feedforward=feedforward,
+        printed_sign=printed_sign,
+        limits=limits,
+        switching=switching,
+    )
+
+
+def start_state(mech: Mechanism, sc: Scenario) -> tuple[np.ndarray | None, np.ndarray | None]:
+    """(q0, v0): None for serial (the simulation starts at the task inverse)."""
+    if mech.loops is None:
+        return None, None
+    from rcm_pin.analysis.position import inverse
+    from rcm_pin.dynamics.constrained import velocity_for_output
+
+    x0, xd0, _ = sc.reference.evaluate(0.0)
+    offset = np.zeros(len(x0)) if not sc.offset else np.asarray(sc.offset, dtype=float)
+    sols = inverse(mech, np.asarray(x0) + offset).solutions
+    labels = [s.mode for s in sols]
+    idx = labels.index(sc.mode) if sc.mode in labels else sc.mode
+    if not isinstance(idx, int) or not 0 <= idx < len(sols):
+        raise InvalidInputError(
+            f"working mode {sc.mode!r} of {mech.name}; valid: {', '.join(labels)} or 0.."
+            f"{len(sols) - 1}"
+        )
+    q0 = sols[idx].q
+    return q0, velocity_for_output(mech, q0, np.asarray(xd0, dtype=float))
+
+
+def run(mech: Mechanism, sc: Scenario, **law: Any) -> SimulationResult:
+    """Simulate a scenario (module docstring); ``law`` goes to :func:`controller`."""
+    q0, v0 = start_state(mech, sc)
+    ctrl = controller(mech, sc, **law)
+    return simulate(
+        mech,
+        ctrl,
+        sc.duration,
+        q0,
+        v0,
+        samples=sc.samples,
+        rtol=sc.rtol,
+        atol=sc.atol,
+        method=sc.method,
+        max_step=sc.max_step,
+        stop_error=0.5 if mech.loops is None else None,
+    )
+
+
+__all__ = ["Scenario", "controller", "home_circle", "run", "scenarios", "start_state"]

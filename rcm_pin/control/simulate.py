@@ -1,0 +1,200 @@
+"""One ``simulate`` for serial and closed mechanisms (scipy ``solve_ivp``).
+
+The plant integrates the state y = (q, q̇):
+
+* serial: q̈ = M(q)⁻¹ (τ − b(q, q̇)) by Cholesky (``pin.aba`` refuses mimic joints, see
+  :mod:`rcm_pin.dynamics.tree`);
+* closed: the KKT system of :mod:`rcm_pin.dynamics.constrained` with Baumgarte
+  stabilisation of the closures.
+
+Efforts come from a :class:`~rcm_pin.control.computed_torque.ComputedTorque` (whose model
+may differ from the plant) or are zero. The run stops at the family's stop conditions
+(leaving the regular region), when the task error exceeds ``stop_error`` and at any
+further ``events`` (terminal). Output: every ``samples`` uniform times, or the solver's
+own steps with ``samples=None``.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Sequence
+
+import numpy as np
+import pinocchio as pin
+from scipy.integrate import solve_ivp
+
+from rcm_pin.control.computed_torque import ComputedTorque, Effort
+from rcm_pin.control.result import SimulationResult
+from rcm_pin.dynamics import constrained as cd
+from rcm_pin.dynamics.tree import solve_mass
+from rcm_pin.errors import InvalidInputError
+from rcm_pin.model.family import StopEvent
+from rcm_pin.model.mechanism import Mechanism
+
+
+class _Plant:
+    """Fast forward dynamics of a Mechanism (no per-call validation)."""
+
+    def __init__(self, mech: Mechanism, baumgarte: tuple[float, float]) -> None:
+        self.mech, self.idx, self.baumgarte = mech, mech.v_index, baumgarte
+        self.data = mech.model.createData()
+
+    def accel(self, q: np.ndarray, v: np.ndarray, tau: np.ndarray) -> np.ndarray:
+        mech = self.mech
+        if mech.loops is not None:
+            return cd.forward_dynamics(mech, q, v, tau, self.baumgarte)[0]
+        model, idx = mech.model, self.idx
+        qp = mech.to_pin(q)
+        vp = np.zeros(model.nv)
+        vp[idx] = v
+        M = np.asarray(pin.crba(model, self.data, qp, pin.Convention.WORLD))
+        M = np.triu(M) + np.triu(M, 1).T
+        b = np.asarray(pin.nonLinearEffects(model, self.data, qp, vp))
+        return solve_mass(M[np.ix_(idx, idx)], tau - b[idx])
+
+
+def initial_state(mech: Mechanism, controller: ComputedTorque) -> np.ndarray:
+    """q at the reference's start (or x_T(0)): the task's closed-form inverse (other
+    coordinates 0), else a Levenberg–Marquardt solve from the family's home configuration.
+
+    Raises:
+        InvalidInputError: a closed mechanism (pass q0), or the start is not reached.
+    """
+    kin = controller.kinematics
+    ref = controller.reference
+    start = np.asarray(ref.start if ref.start is not None else ref.evaluate(0.0)[0], dtype=float)
+    if kin is None:
+        raise InvalidInputError(f"{mech.name}: a closed mechanism needs q0; valid: pass q0")
+    if kin.inverse is not None:
+        q = np.zeros(mech.nq)
+        q[kin.joints] = kin.inverse(start)
+        return q
+    from rcm_pin.analysis.serial_ik import TOL, solve_one
+
+    home = mech.family.configurations(mech).get("home")
+    home = 0.5 * (mech.lower + mech.upper) if home is None else home
+    q, err = solve_one(mech, start, controller.task_output, home)
+    if err > TOL:
+        raise InvalidInputError(
+            f"{mech.name}: the reference start {start.tolist()} is not reached from the home "
+            f"configuration (error {err:.2e}); valid: pass q0"
+        )
+    return q
+
+
+def simulate(
+    plant: Mechanism,
+    controller: ComputedTorque | None,
+    duration: float,
+    q0: np.ndarray | None = None,
+    v0: np.ndarray | None = None,
+    samples: int | None = 1001,
+    rtol: float = 1e-10,
+    atol: float = 1e-12,
+    method: str = "DOP853",
+    stop_error: float | None = 0.5,
+    progress: bool = False,
+    max_step: float = np.inf,
+    events: Sequence[StopEvent] = (),
+    baumgarte: tuple[float, float] = (50.0, 1.0),
+) -> SimulationResult:
+    """Integrate the plant under a controller (or with τ = 0 when ``controller`` is None).
+
+    Args:
+        plant: the "true" mechanism.
+        controller: computed-torque controller (its model may differ from the plant).
+        duration: simulated time [s].
+        q0: initial coordinates; default: the task inverse at the reference's start.
+        v0: initial velocities; default zero.
+        samples: output samples on a uniform grid (None: the solver's steps).
+        rtol: relative tolerance of ``solve_ivp``.
+        atol: absolute tolerance.
+        method: ``solve_ivp`` method.
+        stop_error: stop when |x_T − x| exceeds this [m, rad] (diverging runs); None: no
+            such stop.
+        progress: show a tqdm bar over simulated time.
+        max_step: largest solver step [s].
+        events: further terminal stop conditions (description, g(t, q, v)).
+        baumgarte: closure stabilisation of a closed plant (ω [rad/s], ζ).
+
+    Raises:
+        InvalidInputError: duration ≤ 0, bad q0 / v0, or no q0 and no way to find one.
+    """
+    if not (np.isfinite(duration) and duration > 0):
+        raise InvalidInputError(f"duration {duration} is invalid; valid: > 0 [s]")
+    n, nv = plant.nq, plant.nv
+    if q0 is None:
+        if controller is None:
+            raise InvalidInputError("q0 is required without a controller")
+        q0 = initial_state(plant, controller)
+    q0 = plant.check_q(q0, "q0")
+    v0 = np.zeros(nv) if v0 is None else plant.check_v(v0, "v0")
+    fd = _Plant(plant, baumgarte)
+    bar = None
+    if progress:
+        from tqdm import tqdm
+
+        bar = tqdm(
+            total=duration,
+            desc=f"simulate {plant.name}",
+            bar_format="{l_bar}{bar}| {n:.2f}/{total:.2f} s simulated [{elapsed}]",
+        )
+    shown = [0.0]
+    zero = Effort(np.zeros(nv), np.zeros(0), False, False, float("nan"))
+
+    def effort(t: float, q: np.ndarray, v: np.ndarray) -> Effort:
+        return zero if controller is None else controller.effort(t, q, v)
+
+    def rhs(t: float, y: np.ndarray) -> np.ndarray:
+        q, v = y[:n], y[n:]
+        if bar is not None and t > shown[0] + duration / 200:
+            bar.update(round(t - shown[0], 6))
+            shown[0] = t
+        return np.concatenate([v, fd.accel(q, v, effort(t, q, v).tau_full)])
+
+    stops = list(plant.family.stop_events(plant)) if plant.loops is None else []
+    if controller is not None and stop_error is not None:
+        task, limit = controller.task_output, stop_error
+
+        def error(t: float, q: np.ndarray, v: np.ndarray) -> float:
+            x = SimulationResult.task_value(plant, controller, q)
+            return float(limit - np.linalg.norm(controller.reference.evaluate(t)[0] - x))  # type: ignore[union-attr]
+
+        stops.append((f"|e| > {stop_error} {'m' if not task.angular.any() else 'm, rad'}", error))
+    stops += list(events)
+    handlers = []
+    for _, fn in stops:
+
+        def handler(t: float, y: np.ndarray, fn: object = fn) -> float:
+            return fn(t, y[:n], y[n:])  # type: ignore[operator]
+
+        handler.terminal = True  # type: ignore[attr-defined]
+        handlers.append(handler)
+    t_eval = None if samples is None else np.linspace(0.0, duration, samples)
+    start = time.perf_counter()
+    sol = solve_ivp(
+        rhs,
+        (0.0, duration),
+        np.concatenate([q0, v0]),
+        method=method,
+        t_eval=t_eval,
+        rtol=rtol,
+        atol=atol,
+        events=handlers or None,
+        max_step=max_step,
+    )
+    wall = time.perf_counter() - start
+    if bar is not None:
+        bar.update(max(round(duration - shown[0], 6), 0.0))
+        bar.close()
+    status = "completed"
+    if sol.status == 1:
+        status = "stopped: " + next(nm for (nm, _), te in zip(stops, sol.t_events) if len(te))
+    elif sol.status < 0:
+        status = f"failed: {sol.message}"
+    return SimulationResult.build(
+        plant, controller, sol.t, sol.y[:n].T, sol.y[n:].T, status, wall, int(sol.nfev), effort
+    )
+
+
+__all__ = ["initial_state", "simulate"]

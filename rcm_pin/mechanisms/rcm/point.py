@@ -1,0 +1,85 @@
+"""Tool-centre point kinematics of the RCM mechanisms: p = q3·e4(q1, q2).
+
+The tool centre of every RCM mechanism (and of the two-mass model) is
+
+.. math:: p = q_3 e_4,\\quad e_4 = [\\sin q_2, -\\sin q_1\\cos q_2, \\cos q_1\\cos q_2],
+
+so :math:`\\dot p = J(q)\\dot q` with :math:`J = [q_3 E_1, q_3 E_2, e_4]` and
+:math:`\\ddot p = J\\ddot q + h(q, \\dot q)`. The inverse (principal branch,
+cos q2 > 0, q3 > 0): q3 = |p|, q2 = atan2(x, sqrt(y² + z²)), q1 = atan2(−y, z). The
+computed-torque law uses these closed forms through the family's task-kinematics hook;
+Pinocchio's frame Jacobian is the second route (tests).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rcm_pin.control.references import CartesianTrajectory
+from rcm_pin.errors import InvalidInputError, SingularConfigurationError
+
+
+def _axes(q: np.ndarray) -> tuple[np.ndarray, ...]:
+    s1, c1, s2, c2 = np.sin(q[0]), np.cos(q[0]), np.sin(q[1]), np.cos(q[1])
+    e4 = np.array([s2, -s1 * c2, c1 * c2])
+    E1 = np.array([0.0, -c1 * c2, -s1 * c2])
+    E2 = np.array([c2, s1 * s2, -c1 * s2])
+    E11 = np.array([0.0, s1 * c2, -c1 * c2])
+    E12 = np.array([0.0, c1 * s2, s1 * s2])
+    return e4, E1, E2, E11, E12
+
+
+def point_position(q: np.ndarray) -> np.ndarray:
+    """Tool centre p = q3 e4 (3,) [m] from (q1, q2, q3, ...)."""
+    return q[2] * _axes(q)[0]
+
+
+def point_jacobian(q: np.ndarray) -> np.ndarray:
+    """J = ∂p/∂(q1, q2, q3) (3, 3) [m/rad, m/rad, -]."""
+    e4, E1, E2, _, _ = _axes(q)
+    return np.column_stack([q[2] * E1, q[2] * E2, e4])
+
+
+def point_bias(q: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """h = J̇ q̇ = p̈ − J q̈ (3,) [m/s²]."""
+    e4, E1, E2, E11, E12 = _axes(q)
+    e4d = E1 * v[0] + E2 * v[1]
+    e4dd = E11 * v[0] ** 2 + 2.0 * E12 * v[0] * v[1] - e4 * v[1] ** 2
+    return np.asarray(2.0 * v[2] * e4d + q[2] * e4dd)
+
+
+def point_ik(p: np.ndarray) -> np.ndarray:
+    """(q1, q2, q3) of the principal branch for a tool-centre position p (3,) [m].
+
+    Raises:
+        InvalidInputError: p is not 3 finite numbers.
+        SingularConfigurationError: p at A (q3 = 0) or on the x axis (cos q2 = 0).
+    """
+    p = np.asarray(p, dtype=float)
+    if p.shape != (3,) or not np.all(np.isfinite(p)):
+        raise InvalidInputError(f"p must be 3 finite numbers [m]; got {p!r}")
+    rho = float(np.hypot(p[1], p[2]))
+    r = float(np.linalg.norm(p))
+    if r < 1e-9 or rho < 1e-9 * r:
+        raise SingularConfigurationError(
+            f"tool centre {p} is at A or on the x axis (q3 = 0 or cos q2 = 0); "
+            "valid: a point with y**2 + z**2 > 0"
+        )
+    return np.array([np.arctan2(-p[1], p[2]), np.arctan2(p[0], rho), r])
+
+
+def joint_reference(
+    traj: CartesianTrajectory, t: float
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(q, q̇, q̈) of q1..q3 following ``traj`` at time t, by the inverse kinematics.
+
+    q̇ = J⁻¹ ṗ, q̈ = J⁻¹(p̈ − h(q, q̇)).
+    """
+    q = point_ik(traj.position(t))
+    J = point_jacobian(q)
+    qd = np.linalg.solve(J, traj.velocity(t))
+    qdd = np.linalg.solve(J, traj.acceleration(t) - point_bias(q, qd))
+    return q, qd, qdd
+
+
+__all__ = ["joint_reference", "point_bias", "point_ik", "point_jacobian", "point_position"]

@@ -1,0 +1,178 @@
+"""Building a :class:`~rcm_pin.model.mechanism.Mechanism` from URDF text.
+
+What the URDF tree cannot say comes from its ``<rcm_pin>`` element or a YAML sidecar
+(:mod:`rcm_pin.model.sidecar`), or from the caller (``tool_frame``, ``rcm_frame``). The
+tool frame is never guessed: without one from any of these sources the build fails with
+:class:`~rcm_pin.errors.UnknownFrameError`, listing the candidate frames.
+"""
+
+from __future__ import annotations
+
+import os
+from collections.abc import Callable, Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pinocchio as pin
+
+from rcm_pin.errors import InvalidInputError, UnknownFrameError
+from rcm_pin.model.coupling import coupling_from_urdf
+from rcm_pin.model.family import Family
+from rcm_pin.model.indices import frame_index, joint_index
+from rcm_pin.model.loops import REVOLUTE, build_loops
+from rcm_pin.model.mechanism import Mechanism, RcmSpec
+from rcm_pin.model.output import POSE, Output
+from rcm_pin.model.sidecar import Description
+
+_AXES = {"x": 0, "y": 1, "z": 2}
+
+
+def parse_models(urdf: str, name: str) -> tuple[pin.Model, pin.Model]:
+    """The mimic and no-mimic Pinocchio models of URDF text.
+
+    Raises:
+        InvalidInputError: Pinocchio (urdfdom) cannot build a model from the text.
+    """
+    try:
+        model = pin.buildModelFromXML(urdf, mimic=True)
+        model_full = pin.buildModelFromXML(urdf)
+    except (RuntimeError, ValueError) as exc:
+        raise InvalidInputError(f"{name}: Pinocchio cannot parse the URDF: {exc}") from None
+    return model, model_full
+
+
+def candidate_tool_frames(model: pin.Model) -> list[str]:
+    """Frames a tool could be: body and operational frames, leaves of the tree last."""
+    kinds = (pin.FrameType.BODY, pin.FrameType.OP_FRAME)
+    names = [f.name for f in model.frames if f.type in kinds and f.name != "universe"]
+    return sorted(set(names), key=names.index)
+
+
+def _coordinates(
+    model: pin.Model, joints: tuple[str, ...]
+) -> tuple[list[str], np.ndarray, np.ndarray]:
+    """Joint of each coordinate with its q and v index (papers' order when given)."""
+    independent = [j for j in range(1, model.njoints) if model.joints[j].nq > 0]
+    if joints:
+        ids = [joint_index(model, j, "coordinate joint") for j in joints]
+        return (
+            list(joints),
+            np.array([model.joints[j].idx_q for j in ids]),
+            np.array([model.joints[j].idx_v for j in ids]),
+        )
+    if all(model.joints[j].nq == 1 and model.joints[j].nv == 1 for j in independent):
+        return (
+            [model.names[j] for j in independent],
+            np.array([model.joints[j].idx_q for j in independent], dtype=int),
+            np.array([model.joints[j].idx_v for j in independent], dtype=int),
+        )
+    names = [model.names[j] for j in independent for _ in range(model.joints[j].nq)]
+    return names, np.arange(model.nq), np.arange(model.nv)
+
+
+def build_mechanism(
+    urdf: str,
+    *,
+    name: str,
+    description: Description,
+    family: Family | None = None,
+    args: Mapping[str, Any] | None = None,
+    tool_frame: str | None = None,
+    rcm_frame: str | None = None,
+    rebuild: Callable[..., Mechanism] | None = None,
+    source: Path | None = None,
+) -> Mechanism:
+    """A :class:`Mechanism` from URDF text and its description.
+
+    Args:
+        urdf: URDF XML text.
+        name: mechanism name (catalogue name or file stem).
+        description: the ``<rcm_pin>`` element or sidecar contents.
+        family: the family (default: the generic :class:`Family`).
+        args: xacro arguments it was rendered with.
+        tool_frame: tool frame; overrides the description.
+        rcm_frame: frame of the remote centre; overrides the description.
+        rebuild: renders the same source with other arguments (for design sensitivities).
+        source: the xacro file rendered.
+
+    Raises:
+        UnknownFrameError: no tool frame known (lists the candidates), or a named frame or
+            joint the model does not have.
+        InvalidInputError: malformed URDF or loop description.
+    """
+    model, model_full = parse_models(urdf, name)
+    model.name = model_full.name = name  # messages name the mechanism, not the URDF robot
+    coupling = coupling_from_urdf(urdf, model, model_full)
+    loops = build_loops(model, description.loops) if description.loops is not None else None
+    joints, q_index, v_index = _coordinates(model, description.coordinates if loops is None else ())
+    if loops is not None:
+        output = loops.output
+        if tool_frame and tool_frame != output.frame:
+            output = Output(tool_frame, output.coords, frame_index(model, tool_frame, "tool frame"))
+    else:
+        tool = tool_frame or description.tool_frame
+        if not tool:
+            raise UnknownFrameError(
+                f"{name}: the tool frame is not known (no tool_frame argument, no <rcm_pin "
+                "tool_frame=...> element, no sidecar); valid: tool_frame=one of "
+                + ", ".join(candidate_tool_frames(model))
+            )
+        output = Output(tool, POSE, frame_index(model, tool, "tool frame"))
+    rcm = _rcm(model, description, rcm_frame, output)
+    revolute = np.zeros(len(q_index), dtype=bool)
+    if len(q_index) == len(v_index):
+        shortnames = {
+            model.joints[j].idx_q: model.joints[j].shortname()
+            for j in range(1, model.njoints)
+            if model.joints[j].nq == 1
+        }
+        revolute = np.array([shortnames.get(int(i), "") in REVOLUTE for i in q_index], dtype=bool)
+    lower = np.asarray(model.lowerPositionLimit)[q_index].copy()
+    upper = np.asarray(model.upperPositionLimit)[q_index].copy()
+    return Mechanism(
+        name=name,
+        urdf=urdf,
+        args={k: str(v) for k, v in (args or {}).items()},
+        model=model,
+        model_full=model_full,
+        coupling=coupling,
+        coordinate_names=tuple(f"q{i + 1}" for i in range(len(q_index))),
+        joint_names=tuple(joints),
+        q_index=np.asarray(q_index, dtype=int),
+        v_index=np.asarray(v_index, dtype=int),
+        lower=lower,
+        upper=upper,
+        revolute=revolute,
+        output=output,
+        family=family or Family(),
+        loops=loops,
+        rcm=rcm,
+        rebuild=rebuild,
+        source=source,
+    )
+
+
+def _rcm(
+    model: pin.Model, desc: Description, rcm_frame: str | None, output: Output
+) -> RcmSpec | None:
+    point = rcm_frame or desc.rcm_frame
+    if not point:
+        return None
+    if desc.rcm_axis not in _AXES:
+        raise InvalidInputError(f"rcm_axis {desc.rcm_axis!r}; valid: x, y, z")
+    axis_frame = desc.rcm_axis_frame or output.frame
+    return RcmSpec(
+        point_frame_id=frame_index(model, point, "RCM frame"),
+        axis_frame_id=frame_index(model, axis_frame, "RCM axis frame"),
+        axis=_AXES[desc.rcm_axis],
+    )
+
+
+def is_path_like(text: str) -> bool:
+    """A path, not a catalogue name: a path separator or a ``.urdf`` / ``.xacro`` suffix."""
+    seps = {os.sep, "/"} | ({os.altsep} if os.altsep else set())
+    return any(s in text for s in seps) or text.endswith((".urdf", ".xacro"))
+
+
+__all__ = ["build_mechanism", "candidate_tool_frames", "is_path_like", "parse_models"]

@@ -1,0 +1,162 @@
+"""What a mechanism family may know beyond its URDF: the hooks generic code asks for.
+
+Generic algorithms (``rcm_pin.analysis``, ``dynamics``, ``control``, ``viz``) never test a
+mechanism's name. They ask the mechanism's :class:`Family` for a hook; a hook that returns
+``None`` means "this family has no closed form here", and the generic numeric route runs.
+Each family module in ``rcm_pin.mechanisms`` subclasses :class:`Family` and overrides the
+hooks its papers give (analytic position problems, the paper's A and B matrices, named
+singularity causes, workspace summaries, stop conditions of simulations, ...).
+
+The base class is also the family of a URDF loaded by path that names no family.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+if TYPE_CHECKING:
+    from rcm_pin.model.mechanism import Mechanism
+    from rcm_pin.model.output import Output
+
+
+@dataclass(frozen=True)
+class Branch:
+    """One closed-form solution of a position problem.
+
+    Attributes:
+        q: Mechanism coordinates (n,) [rad, m] (for closed mechanisms a seed that the
+            generic code polishes on Pinocchio's closures).
+        label: branch / working-mode label (e.g. ``"+-+"``, ``"branch 3"``).
+    """
+
+    q: np.ndarray
+    label: str
+
+
+@dataclass(frozen=True)
+class Cause:
+    """A named singularity of a family at a configuration.
+
+    Attributes:
+        name: identifier (e.g. ``tool_centre_at_A``).
+        description: what happens.
+        condition: the equation of the singular set.
+        tasks: the Jacobians it makes rank-deficient (``full``, ``position``).
+        rank_loss: rank lost in the full Jacobian (alone).
+    """
+
+    name: str
+    description: str
+    condition: str
+    tasks: tuple[str, ...]
+    rank_loss: int
+
+
+#: A simulation stop condition: (description, g(t, q, v)); the run stops where g crosses 0.
+StopEvent = tuple[str, Callable[[float, np.ndarray, np.ndarray], float]]
+
+
+@dataclass(frozen=True)
+class TaskKinematics:
+    """Closed-form kinematics of a task (output coordinates) over some coordinates.
+
+    Attributes:
+        joints: coordinate indices the task depends on (the others do not move it).
+        position: q (n,) -> task value (dim,).
+        jacobian: q -> ∂x/∂q_joints (dim, len(joints)).
+        bias: (q, q̇) -> J̇ q̇ (dim,).
+        inverse: task value -> q_joints of the principal branch (None: not available).
+    """
+
+    joints: np.ndarray
+    position: Callable[[np.ndarray], np.ndarray]
+    jacobian: Callable[[np.ndarray], np.ndarray]
+    bias: Callable[[np.ndarray, np.ndarray], np.ndarray]
+    inverse: Callable[[np.ndarray], np.ndarray] | None = None
+
+
+class Family:
+    """Base family: no closed forms, every hook answers ``None`` (numeric routes)."""
+
+    name = "generic"
+    description = "any URDF: numeric routes only"
+    #: Whether the family's mechanisms have loop closures.
+    closed = False
+
+    # ---------------------------------------------------------------- position
+    def inverse_position(
+        self, mech: Mechanism, target: np.ndarray, output: Output
+    ) -> list[Branch] | None:
+        """Every closed-form solution for an output value (``output`` may be a subset of
+        the mechanism's output, e.g. the tool position only); None: no closed form."""
+        return None
+
+    def direct_position(self, mech: Mechanism, drives: np.ndarray) -> list[np.ndarray] | None:
+        """Closed mechanisms: every assembly mode (full q seeds) for drive values."""
+        return None
+
+    def mode_labels(self, mech: Mechanism) -> tuple[str, ...] | None:
+        """Labels of the working modes that :meth:`inverse_position` returns, in order."""
+        return None
+
+    def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
+        """Named configurations (Mechanism coordinates); ``home`` is the default pose."""
+        return {}
+
+    # ------------------------------------------------------- velocity and singularity
+    def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+        """The paper's A, B (A ẋ = −B q̇_a) at a closed configuration, from its equations,
+        rows and columns scaled so that their determinants are dimensionless (for the
+        singular verdicts; −A⁻¹B of the scaled matrices is not the output Jacobian)."""
+        return None
+
+    def singularity_causes(self, mech: Mechanism, q: np.ndarray) -> list[Cause] | None:
+        """Named singularity causes at q (empty list: regular); None: none known."""
+        return None
+
+    def singularity_map(self, mech: Mechanism, **options: Any) -> dict[str, Any] | None:
+        """A vectorised closed-form map of the singularity measures over the workspace."""
+        return None
+
+    # ---------------------------------------------------------------- workspace
+    def workspace_summary(self, mech: Mechanism, **options: Any) -> dict[str, Any] | None:
+        """Closed-form workspace figures (volumes, areas, the rig specification)."""
+        return None
+
+    def plot_workspace(self, mech: Mechanism, path: Path, **options: Any) -> Path | None:
+        """A PNG of the workspace drawn from the closed forms."""
+        return None
+
+    def mesh_dirs(self, mech: Mechanism) -> list[str]:
+        """Folders that resolve the URDF's ``package://`` mesh paths (for the viewer)."""
+        return []
+
+    # ---------------------------------------------------------------- accuracy
+    def accuracy_parameters(self, mech: Mechanism) -> tuple[str, ...]:
+        """xacro arguments that enter the kinematics (design-error variables)."""
+        return ()
+
+    def accuracy_report(self, mech: Mechanism, q: np.ndarray) -> dict[str, Any] | None:
+        """The family's own accuracy table (None: the generic placement sensitivities)."""
+        return None
+
+    # ---------------------------------------------------------------- control
+    def task_kinematics(self, mech: Mechanism, task: Output) -> TaskKinematics | None:
+        """Closed-form kinematics of a control task (None: Pinocchio's frame Jacobian)."""
+        return None
+
+    def scenarios(self, mech: Mechanism) -> dict[str, Any]:
+        """Named simulation scenarios (:class:`rcm_pin.control.scenario.Scenario`)."""
+        return {}
+
+    def stop_events(self, mech: Mechanism) -> list[StopEvent]:
+        """Conditions that end a simulation (leaving the regular region)."""
+        return []
+
+
+__all__ = ["Branch", "Cause", "Family", "StopEvent", "TaskKinematics"]

@@ -1,0 +1,273 @@
+"""The central object: one :class:`Mechanism` for serial and closed mechanisms.
+
+A Mechanism holds the Pinocchio model parsed with ``mimic=True``, the same URDF parsed
+without mimic and the coupling between them (:mod:`rcm_pin.model.coupling`), the
+*Mechanism coordinates* (the papers' q1..qn in their numbering, mapped to Pinocchio's q
+by ``q_index``), the tool or output frame, the RCM point and axis where there is one,
+the loop closures where there are some (:class:`rcm_pin.model.loops.Loops`), and the
+family (:class:`rcm_pin.model.family.Family`) whose hooks the generic algorithms ask.
+
+Serial mechanisms: the inputs are the coordinates; the output is the tool frame's pose.
+Closed mechanisms: the coordinates are Pinocchio's q of the cut-open tree (every
+independent joint, in Pinocchio order); the inputs are the drives; the output is the
+output frame's coordinates of the sidecar.
+
+Thread safety: the model is shared read-only; Pinocchio ``Data`` (scratch space of every
+algorithm) is created per thread on first use (:attr:`Mechanism.data`), so one Mechanism
+gives the same results from any number of threads.
+"""
+
+from __future__ import annotations
+
+import math
+import threading
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field, replace
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pinocchio as pin
+
+from rcm_pin.errors import InvalidInputError
+from rcm_pin.model import loops as lp
+from rcm_pin.model.coupling import Coupling
+from rcm_pin.model.family import Family
+from rcm_pin.model.output import Output
+
+
+@dataclass(frozen=True)
+class RcmSpec:
+    """The remote centre A and the axis that must pass through it.
+
+    Attributes:
+        point_frame_id: frame at A.
+        axis_frame_id: frame whose ``axis`` (0, 1, 2 = x, y, z) is the insertion axis.
+        axis: axis index in that frame.
+    """
+
+    point_frame_id: int
+    axis_frame_id: int
+    axis: int = 2
+
+
+@dataclass(frozen=True, eq=False)
+class Mechanism:
+    """A loaded mechanism (module docstring).
+
+    Attributes:
+        name: catalogue name or URDF file stem.
+        urdf: the URDF text it was built from.
+        args: the xacro arguments used (empty for a plain URDF).
+        model: Pinocchio model parsed with ``mimic=True``.
+        model_full: the same URDF parsed without mimic (every joint independent).
+        coupling: q_full = G·q_pin + offset.
+        coordinate_names: ``("q1", ..., "qn")``.
+        joint_names: URDF joint of each coordinate (multi-DOF models: one per q entry).
+        q_index: Pinocchio q index of each coordinate.
+        v_index: Pinocchio v index of each velocity coordinate.
+        lower: lower limits in coordinate order [rad or m].
+        upper: upper limits in coordinate order [rad or m].
+        revolute: (n,) bool, the coordinates that are revolute angles [rad].
+        output: the tool (serial) or output (closed) frame and its coordinates.
+        family: the family whose hooks generic code calls.
+        loops: closures and drives (None for a serial mechanism).
+        rcm: the remote centre and its axis (None without one).
+        rebuild: renders the same source with other xacro arguments (None for plain URDF).
+        source: the xacro file it was rendered from (None for plain URDF).
+    """
+
+    name: str
+    urdf: str
+    args: Mapping[str, str]
+    model: pin.Model
+    model_full: pin.Model
+    coupling: Coupling
+    coordinate_names: tuple[str, ...]
+    joint_names: tuple[str, ...]
+    q_index: np.ndarray
+    v_index: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+    revolute: np.ndarray
+    output: Output
+    family: Family = field(default_factory=Family)
+    loops: lp.Loops | None = None
+    rcm: RcmSpec | None = None
+    rebuild: Callable[..., Mechanism] | None = field(default=None, repr=False)
+    source: Path | None = None
+    _local: threading.local = field(default_factory=threading.local, init=False, repr=False)
+
+    # ------------------------------------------------------------------ sizes
+    @property
+    def nq(self) -> int:
+        """Number of coordinates."""
+        return len(self.q_index)
+
+    @property
+    def nv(self) -> int:
+        """Number of velocity coordinates (equals nq unless multi-DOF joints)."""
+        return len(self.v_index)
+
+    @property
+    def is_closed(self) -> bool:
+        """Whether the mechanism has loop closures."""
+        return self.loops is not None
+
+    @property
+    def input_names(self) -> tuple[str, ...]:
+        """What :func:`rcm_pin.forward` takes: the drives, or every coordinate."""
+        return self.loops.drives if self.loops is not None else self.coordinate_names
+
+    @property
+    def tool_frame_id(self) -> int:
+        """Frame id of the tool (serial) or output (closed) frame."""
+        return self.output.frame_id
+
+    @property
+    def rcm_frame_id(self) -> int:
+        """Frame id of the remote centre A (−1 when there is none)."""
+        return -1 if self.rcm is None else self.rcm.point_frame_id
+
+    # ------------------------------------------------------------------ scratch
+    @property
+    def data(self) -> pin.Data:
+        """Pinocchio data of the mimic model for the calling thread."""
+        data = getattr(self._local, "data", None)
+        if data is None:
+            data = self._local.data = self.model.createData()
+        return data
+
+    @property
+    def data_full(self) -> pin.Data:
+        """Pinocchio data of the no-mimic model for the calling thread."""
+        data = getattr(self._local, "data_full", None)
+        if data is None:
+            data = self._local.data_full = self.model_full.createData()
+        return data
+
+    # ------------------------------------------------------------------ coordinates
+    @property
+    def identity_order(self) -> bool:
+        """Whether Pinocchio's q is the coordinate vector itself."""
+        cached = self.__dict__.get("_identity")
+        if cached is None:
+            cached = bool(
+                self.model.nq == self.nq and np.array_equal(self.q_index, np.arange(self.nq))
+            )
+            object.__setattr__(self, "_identity", cached)
+        return cached
+
+    def to_pin(self, q: np.ndarray) -> np.ndarray:
+        """Mechanism coordinates -> Pinocchio q (works on (..., n) arrays)."""
+        q = np.asarray(q, dtype=float)
+        out = np.zeros(q.shape[:-1] + (self.model.nq,))
+        out[..., self.q_index] = q
+        return out
+
+    def from_pin(self, q_pin: np.ndarray) -> np.ndarray:
+        """Pinocchio q -> Mechanism coordinates."""
+        return np.asarray(q_pin, dtype=float)[..., self.q_index]
+
+    def v_pin(self, v: np.ndarray) -> np.ndarray:
+        """Velocity coordinates -> Pinocchio v (works on (..., nv) arrays)."""
+        v = np.asarray(v, dtype=float)
+        out = np.zeros(v.shape[:-1] + (self.model.nv,))
+        out[..., self.v_index] = v
+        return out
+
+    def q_pin(self, q: np.ndarray) -> np.ndarray:
+        """Validated Pinocchio configuration of one coordinate vector (the hot path).
+
+        A float64 array of the right shape is checked for NaN with one dot product and
+        passed through without a copy when Pinocchio's order is the coordinate order.
+
+        Raises:
+            InvalidInputError: wrong shape or NaN / infinite entries.
+        """
+        if not (type(q) is np.ndarray and q.shape == (self.nq,) and q.dtype == np.float64):
+            q = self.check_q(q)
+        elif not math.isfinite(q.dot(q)):
+            q = self.check_q(q)  # raises with the full message
+        return q if self.identity_order else self.to_pin(q)
+
+    def check_q(self, q: Any, name: str = "q", size: int | None = None) -> np.ndarray:
+        """Validate a coordinate vector (or any vector of ``size``): shape and finiteness.
+
+        Raises:
+            InvalidInputError: not numeric, wrong length or NaN / infinite entries.
+        """
+        n = self.nq if size is None else size
+        try:
+            arr = np.asarray(q, dtype=float)
+        except (TypeError, ValueError):
+            raise InvalidInputError(f"{name} {q!r} is not a numeric vector") from None
+        if arr.shape != (n,):
+            what = ", ".join(self.coordinate_names) if size is None else f"{n} values"
+            raise InvalidInputError(
+                f"{name} has shape {arr.shape}; valid: ({n},) for {self.name} ({what})"
+            )
+        if not np.all(np.isfinite(arr)):
+            raise InvalidInputError(f"{name} has NaN or infinite entries: {arr.tolist()}")
+        return arr
+
+    def check_v(self, v: Any, name: str = "v") -> np.ndarray:
+        """Validate a velocity-coordinate vector (nv,)."""
+        return self.check_q(v, name, self.nv)
+
+    def frame_id(self, frame: str) -> int:
+        """Pinocchio id of a frame by name.
+
+        Raises:
+            UnknownFrameError: the message lists the model's frames.
+        """
+        return lp.frame_index(self.model, frame)
+
+    def joint_v(self, names: Sequence[str]) -> np.ndarray:
+        """v indices of named one-DOF joints."""
+        return np.array(
+            [self.model.joints[lp.joint_index(self.model, n)].idx_v for n in names], dtype=int
+        )
+
+    # ------------------------------------------------------------------ loops
+    def _require_loops(self) -> lp.Loops:
+        if self.loops is None:
+            raise InvalidInputError(f"{self.name} has no loop closures; valid: a closed mechanism")
+        return self.loops
+
+    def closure_residual(self, q: np.ndarray) -> np.ndarray:
+        """Kept closure rows e(q) [m, rad] at a full configuration (runs FK)."""
+        return lp.closure_residual(self.model, self.data, self._require_loops(), q)
+
+    def residual_and_jacobian(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Closure residual e (m,) and constraint Jacobian J_c (m, nv)."""
+        return lp.residual_and_jacobian(self.model, self.data, self._require_loops(), q)
+
+    def constraint_jacobian(self, q: np.ndarray) -> np.ndarray:
+        """J_c (m, nv): J_c v = 0 along closed-loop motions."""
+        return self.residual_and_jacobian(q)[1]
+
+    def output_value(self, q: np.ndarray) -> np.ndarray:
+        """Value of the output coordinates at Pinocchio configuration q (runs FK)."""
+        pin.forwardKinematics(self.model, self.data, q)
+        return self.output.value(
+            pin.updateFramePlacement(self.model, self.data, self.output.frame_id)
+        )
+
+    def output_jacobian(self, q: np.ndarray) -> np.ndarray:
+        """Tree Jacobian J_x (dim, nv) of the output coordinates (LOCAL_WORLD_ALIGNED)."""
+        pin.computeJointJacobians(self.model, self.data, q)
+        pin.updateFramePlacements(self.model, self.data)
+        jac = pin.getFrameJacobian(self.model, self.data, self.output.frame_id, lp.LWA)
+        return np.asarray(jac)[self.output.rows]
+
+    def with_drives(self, drives: Sequence[str]) -> Mechanism:
+        """A copy driven by other joints (e.g. the extra drives of the five-bar)."""
+        return replace(self, loops=self._require_loops().with_drives(self.model, drives))
+
+    def with_models(self, model: pin.Model, model_full: pin.Model) -> Mechanism:
+        """A copy on modified Pinocchio models of the same structure (e.g. gravity)."""
+        return replace(self, model=model, model_full=model_full)
+
+
+__all__ = ["Mechanism", "RcmSpec"]

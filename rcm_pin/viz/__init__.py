@@ -1,0 +1,19 @@
+"""Pictures of any mechanism: one Meshcat :class:`Viewer`, static HTML, PNG snapshots.
+
+* :mod:`.viewer`: :class:`Viewer` (serial and closed mechanisms; bodies, markers, point
+  sets, animations, camera);
+* :mod:`.overlays`: the markers drawn from the data (RCM point and insertion axis, cut
+  points, output point, point clouds);
+* :mod:`.base`: Meshcat plumbing (visual geometry, camera, static HTML, live server on
+  127.0.0.1);
+* :mod:`.scene`: the in-memory Meshcat scene (no server) and colour helpers;
+* :mod:`.camera`: framing and projection arithmetic;
+* :mod:`.snapshot`: the browser-else-fallback picture (:func:`picture` of a viewer,
+  :func:`~rcm_pin.viz.snapshot.snapshot` of a mechanism at q), headless Chromium;
+* :mod:`.drawing`: the matplotlib fallback drawing.
+"""
+
+from rcm_pin.viz.snapshot import picture
+from rcm_pin.viz.viewer import Viewer
+
+__all__ = ["Viewer", "picture"]
