@@ -1,0 +1,52 @@
+"""Run the installed `rcm-pin` console script for every catalogue entry (CI wheel check).
+
+Started by .ci/run with the Python of a fresh virtual environment that has only the built
+wheel installed, from a temporary directory outside the checkout: it fails if the package
+reads anything from the repository (xacro/, urdf/) or lacks its package data.
+"""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+
+import rcm_pin
+
+exe = Path(sys.executable).with_name("rcm-pin")
+site = Path(rcm_pin.__file__).resolve()
+assert "site-packages" in site.parts, f"rcm_pin imported from {site}, not from the wheel"
+
+
+def cli(*argv: str) -> dict:
+    proc = subprocess.run([str(exe), *argv, "--json"], capture_output=True, text=True, timeout=600)
+    if proc.returncode != 0:
+        raise SystemExit(f"rcm-pin {' '.join(argv)} failed ({proc.returncode}):\n{proc.stdout}"
+                         f"\n{proc.stderr}")  # fmt: skip
+    return json.loads(proc.stdout)
+
+
+names = [m["name"] for m in cli("list")["mechanisms"]]
+assert names == list(rcm_pin.names()), names
+for name in names:
+    mech = rcm_pin.load(name)
+    named = mech.family.configurations(mech)  # "mid": regular (the RCM home is on the wrist
+    home = named.get("mid", named.get("home"))  # singularity sin q5 = 0)
+    home = 0.5 * (mech.lower + mech.upper) if home is None else home
+    inputs = home if mech.loops is None else home[mech.loops.drive_q]
+    fk = cli("fk", name, "--q=" + ",".join(repr(float(v)) for v in inputs))
+    sol = fk["solutions"][0]
+    if mech.loops is None:
+        pose = np.array(sol["pose"])
+        target = ["--pose", ";".join(",".join(repr(float(v)) for v in r) for r in pose[:3])]
+    else:
+        target = ["--pose=" + ",".join(repr(float(sol["output"][c])) for c in fk["output_coords"])]
+    ik = cli("ik", name, *target)
+    best = min(float(np.max(np.abs(np.array(s["q"]) - np.array(sol["q"])))) for s in
+               ik["solutions"])  # fmt: skip
+    print(f"{name:<16} fk + ik ({ik['count']} solutions, nearest {best:.1e} from the fk input)")
+    assert ik["count"] >= 1
+print(f"wheel smoke test: {len(names)} mechanisms from {site.parent}")
