@@ -29,6 +29,24 @@ def test_committed_urdf_by_path_equals_the_catalogue(name):
         assert rcm_pin.rcm_error(by_path, q) < EXACT
 
 
+@pytest.mark.parametrize("name", ["planar_3rrr", "five_bar", "four_bar"])
+def test_committed_closed_urdf_by_path_equals_the_catalogue(name):
+    """The committed rendering of a closed mechanism carries its loops: the same closures,
+    drives and output, and the same closed configurations and outputs."""
+    by_name = rcm_pin.load(name)
+    by_path = rcm_pin.load(urdf_dir() / f"{name}.urdf")
+    assert by_path.family is by_name.family and by_path.loops.spec == by_name.loops.spec
+    assert by_path.output.coords == by_name.output.coords
+    home = by_name.family.configurations(by_name)["home"]
+    drives = home[by_name.loops.drive_q]
+    rng = np.random.default_rng(1)
+    for delta in rng.uniform(-0.05, 0.05, (20, drives.size)):
+        a = rcm_pin.forward(by_name, drives + delta, q_guess=home).solutions[0]
+        b = rcm_pin.forward(by_path, drives + delta, q_guess=home).solutions[0]
+        np.testing.assert_allclose(b.q, a.q, atol=EXACT)
+        np.testing.assert_allclose(b.output, a.output, atol=EXACT)
+
+
 def test_path_as_text_and_xacro_path():
     text = str(urdf_dir() / "rcm_bevel.urdf")
     assert rcm_pin.load(text).nq == 6
