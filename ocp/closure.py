@@ -20,13 +20,17 @@ v = vee(R − Rᵀ) / 2 = sin θ · axis, and θ / sin θ replaced by 1 + |v|² 
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
 import casadi as ca
+import numpy as np
+from scipy.linalg import qr
 
 from ocp.kinematics import Sym
 from ocp.symbolic import SymbolicModel
 from rcm_pin.model.loops import Loops
+from rcm_pin.model.newton import constraint_rank
 
 _SMALL = 1e-16  # |v|^2 below which theta / sin(theta) takes its series [-]
 
@@ -41,8 +45,25 @@ def log3(rot: Sym) -> Sym:
     return scale * v
 
 
-def closure_expr(sm: SymbolicModel, loops: Loops, q: Sym) -> Sym:
-    """The kept closure rows e(q) (m,) of every closure, in ``loops.closures`` order."""
+def independent_rows(jacobian: np.ndarray) -> list[int]:
+    """Rows of a closure Jacobian that form an independent set (rank-revealing QR of Jᵀ with
+    column pivoting; the rank as :func:`rcm_pin.model.newton.constraint_rank` counts it).
+
+    An over-constrained loop (a parallelogram written as a 4R loop) has structurally
+    redundant rows; an NLP given all of them as equalities has more constraints than
+    freedoms in them (IPOPT: ``Not_Enough_Degrees_Of_Freedom``). Keeping an independent
+    subset defines the same closed configurations near the one where J is evaluated.
+    """
+    if jacobian.shape[0] == 0:
+        return []
+    rank = constraint_rank(jacobian)
+    _, _, piv = qr(jacobian.T, mode="economic", pivoting=True)
+    return sorted(int(i) for i in piv[:rank])
+
+
+def closure_expr(sm: SymbolicModel, loops: Loops, q: Sym, rows: Sequence[int] | None = None) -> Sym:
+    """The kept closure rows e(q) (m,) of every closure, in ``loops.closures`` order
+    (``rows``: only these of them, e.g. :func:`independent_rows`)."""
     parts: list[Any] = []
     for c in loops.closures:
         p_a, r_a = sm.frame_placement(c.frame_a_id)(q)
@@ -52,6 +73,8 @@ def closure_expr(sm: SymbolicModel, loops: Loops, q: Sym) -> Sym:
         else:
             err = ca.vertcat(ca.mtimes(r_a.T, p_b - p_a), log3(ca.mtimes(r_a.T, r_b)))
         parts += [err[r] for r in c.rows]
+    if rows is not None:
+        parts = [parts[i] for i in rows]
     return ca.vertcat(*parts) if parts else type(q).zeros(0, 1)
 
 
@@ -61,4 +84,4 @@ def closure_function(sm: SymbolicModel, loops: Loops) -> ca.Function:
     return ca.Function("closure", [q], [closure_expr(sm, loops, q)], ["q"], ["e"])
 
 
-__all__ = ["closure_expr", "closure_function", "log3"]
+__all__ = ["closure_expr", "closure_function", "independent_rows", "log3"]

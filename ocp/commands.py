@@ -15,7 +15,9 @@ from numpy.typing import ArrayLike
 import rcm_pin
 from ocp import paper000 as paper
 from ocp.ik import IKProblem, Mode
-from rcm_pin.errors import InvalidInputError
+from ocp.ik_result import IKResult, failure
+from ocp.tracking import TrackingOCP, TrackingResult
+from rcm_pin.errors import InvalidInputError, SolverError
 from rcm_pin.rotations import rpy_to_matrix
 
 
@@ -45,7 +47,8 @@ def ik_command(
     mech = rcm_pin.load(name, **(xacro_args or {}))
     prob, target = _problem(mech, xyz, rpy, pose, restarts)
     start = None if q0 is None else mech.to_pin(mech.check_q(np.asarray(q0), "q0"))
-    res = prob.solve(target, start, solver=solver)  # type: ignore[arg-type]
+    res = prob.solve(target, start, solver=solver, raise_on_failure=False)  # type: ignore[arg-type]
+    _check_ik(mech, prob, res)
     out = {
         "mechanism": mech.name, "mode": prob.mode, "solver": res.solver, "status": res.status,
         "success": res.success, "iterations": res.iterations,
@@ -58,6 +61,37 @@ def ik_command(
         out["target"] = mech.output.to_json(target)
         out["closure_residual"] = float(np.abs(mech.closure_residual(res.q)).max())
     return out
+
+
+def _check_ik(mech: rcm_pin.Mechanism, prob: IKProblem, res: IKResult) -> None:
+    """Raise the typed error of a failed solve or of a solution outside the joint limits
+    (1e-9): :class:`UnreachablePoseError` at a stationary point with a residual,
+    :class:`SolverError` otherwise; ``err.result`` is a small JSON-able dict (``success``
+    False, ``reason``, the solver's status and statistics; no configuration)."""
+    q = mech.from_pin(res.q)
+    excess = np.maximum(mech.lower - q, q - mech.upper)
+    err: Exception | None = None
+    if not res.success:
+        err = failure(res, prob.sm.frames[prob.fid].name, prob.reach_tol, mech.loops is not None)
+    elif excess.max() > 1e-9:
+        i = int(np.argmax(excess))
+        bound = mech.upper[i] if q[i] > mech.upper[i] else mech.lower[i]
+        err = SolverError(
+            f"IK of {mech.name} ({res.solver}, {res.status}) ended outside the joint limits: "
+            f"{mech.coordinate_names[i]} = {q[i]:.6g} against its limit {bound:.6g}; valid: "
+            f"{mech.coordinate_names[i]} in [{mech.lower[i]:.6g}, {mech.upper[i]:.6g}]"
+        )
+    if err is None:
+        return
+    err.result = {  # type: ignore[attr-defined]
+        "success": False, "reason": str(err).split("; valid:")[0], "mechanism": mech.name,
+        "solver": res.solver, "status": res.status, "iterations": res.iterations,
+        "residual": res.residual_norm, "position_error": res.position_error,
+        "orientation_error": _finite([res.orientation_error])[0],
+        "constraint_violation": res.constraint_violation,
+        "closure_residual": res.closure_residual,
+    }  # fmt: skip
+    raise err
 
 
 def _problem(
@@ -77,10 +111,20 @@ def _problem(
             )
         prob = IKProblem(mech, restarts=restarts)
         return prob, prob.target_vector(np.asarray(pose, dtype=float))
-    if pose is not None or xyz is None:
+    if pose is not None:
+        if xyz is not None or rpy is not None:
+            raise InvalidInputError("--pose conflicts with --xyz / --rpy; valid: one of them")
+        T = np.asarray(pose, dtype=float)
+        if T.shape not in {(3, 4), (4, 4)}:
+            raise InvalidInputError(
+                f"pose for {mech.name} (serial) is a 3x4 tool pose [R | p] "
+                f"('r11,r12,r13,x;...;r31,r32,r33,z' on the CLI), got shape {T.shape}"
+            )
+        return IKProblem(mech, mode="pose", restarts=restarts), T
+    if xyz is None:
         raise InvalidInputError(
             f"{mech.name} is a serial mechanism: give xyz (tool-centre position [m]) and "
-            "optionally rpy; pose (output coordinates) is for closed mechanisms"
+            "optionally rpy, or pose (a 3x4 tool pose [R | p])"
         )
     p = np.asarray(xyz, dtype=float)
     if p.shape != (3,):
@@ -129,6 +173,7 @@ def track_command(
         lim = np.full(mech.nq, np.inf)
         lim[:3] = float(limit_scale) * peak[:3]  # type: ignore[arg-type]
     res = paper.solve(ocp, mech, effort_limits=lim, raise_on_failure=False)
+    _check_track(mech, ocp, res, lim)
     exact = paper.exact_solution(mech, res.t_colloc)
     return {
         "mechanism": mech.name, "n_intervals": n_intervals, "solver": res.solver,
@@ -140,6 +185,84 @@ def track_command(
         "max_efforts": mech.from_pin(np.abs(res.tau).max(0)),
         "effort_difference_to_exact": float(np.abs(res.tau - exact.tau).max()),
     }  # fmt: skip
+
+
+def _worst_violation(
+    mech: rcm_pin.Mechanism, ocp: TrackingOCP, res: TrackingResult, lim: np.ndarray | None
+) -> dict[str, Any] | None:
+    """The largest limit violation of a tracking solution (drive efforts at the
+    collocation points against ``lim``, positions against the OCP's joint limits), by its
+    excess relative to the limit (efforts) or to the joint range (positions, at least
+    1e-3); None when every limit holds within 1e-6 of that scale (IPOPT relaxes bounds)."""
+    worst: dict[str, Any] | None = None
+    tau, q = np.abs(mech.from_pin(res.tau)), mech.from_pin(res.q_colloc)
+    lo, hi = mech.from_pin(ocp.lower), mech.from_pin(ocp.upper)
+    width = np.where(np.isfinite(hi - lo), np.maximum(hi - lo, 1e-3), np.inf)
+    checks = [("position", np.maximum(lo - q, q - hi), width, q)]
+    if lim is not None:
+        lim_m = mech.from_pin(lim)
+        checks.append(("effort", tau - lim_m, np.maximum(lim_m, 1e-12), tau))
+    for kind, excess, scale, value in checks:
+        ratio = np.where(np.isfinite(scale), excess / np.where(np.isfinite(scale), scale, 1), 0)
+        k, i = np.unravel_index(int(np.argmax(ratio)), ratio.shape)
+        if ratio[k, i] > 1e-6 and (worst is None or ratio[k, i] > worst["ratio"]):
+            bound = lim_m[i] if kind == "effort" else (hi[i] if value[k, i] > hi[i] else lo[i])
+            worst = {
+                "coordinate": mech.coordinate_names[i], "kind": kind,
+                "value": float(value[k, i]), "limit": float(bound),
+                "time_s": float(res.t_colloc[k]), "ratio": float(ratio[k, i]),
+            }  # fmt: skip
+    return worst
+
+
+def _describe(mech: rcm_pin.Mechanism, v: dict[str, Any]) -> str:
+    """``"q3 force 365 N against a 0.028 N limit"`` (or a position against its bound)."""
+    revolute = bool(mech.revolute[list(mech.coordinate_names).index(v["coordinate"])])
+    if v["kind"] == "effort":
+        what, unit = ("torque", "N m") if revolute else ("force", "N")
+        value, limit = f"{v['value']:.3g} {unit}", f"{v['limit']:.3g} {unit}"
+        return f"{v['coordinate']} {what} {value} against a {limit} limit"
+    unit = "rad" if revolute else "m"
+    return f"{v['coordinate']} = {v['value']:.4g} {unit} outside its limit {v['limit']:.4g} {unit}"
+
+
+def _check_track(
+    mech: rcm_pin.Mechanism, ocp: TrackingOCP, res: TrackingResult, lim: np.ndarray | None
+) -> None:
+    """Raise :class:`SolverError` for a failed or limit-violating solve (never a result).
+
+    Its ``result`` is a small JSON-able dict: ``success`` False, ``reason``, the solver's
+    status and statistics (IPOPT's last primal infeasibility) and the worst violation of the
+    last iterate; no trajectories.
+    """
+    worst = _worst_violation(mech, ocp, res, lim)
+    if res.success and worst is None:
+        return
+    inf_pr = ocp.solver.stats().get("iterations", {}).get("inf_pr", [])
+    primal = float(inf_pr[-1]) if len(inf_pr) else None
+    why = f"{res.solver} {res.status} after {res.iterations} iterations"
+    if primal is not None:
+        why += f" (primal infeasibility {primal:.3g})"
+    if worst is not None:
+        why += f"; worst limit violation: {_describe(mech, worst)} at t = {worst['time_s']:.3g} s"
+    reason = f"paper 000 tracking OCP of {mech.name} failed: {why}"
+    err = SolverError(
+        f"{reason}; valid: drive limits the reference can be tracked within (the analytic "
+        "peak efforts: --limit-scale 1 and above, or no --limit-scale)"
+    )
+    err.result = {  # type: ignore[attr-defined]
+        "success": False, "reason": reason, "mechanism": mech.name, "solver": res.solver,
+        "status": res.status, "iterations": res.iterations, "solve_time_s": res.solve_time,
+        "n_intervals": ocp.N, "objective": res.objective, "primal_infeasibility": primal,
+        "effort_limits": None if lim is None else _finite(mech.from_pin(lim).tolist()),
+        "worst_violation": worst,
+    }  # fmt: skip
+    raise err
+
+
+def _finite(values: list[float]) -> list[float | None]:
+    """NaN and ±inf to None (strict JSON)."""
+    return [float(v) if np.isfinite(v) else None for v in values]
 
 
 def format_track(payload: dict[str, Any]) -> str:

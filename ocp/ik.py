@@ -32,7 +32,7 @@ import casadi as ca
 import numpy as np
 
 from ocp.buffered import BufferedFunction
-from ocp.closure import closure_expr
+from ocp.closure import closure_expr, independent_rows
 from ocp.ik_constraints import Constraint, constraint_expr, violation
 from ocp.ik_lm import LevenbergMarquardt, build_lm_step
 from ocp.ik_nlp import NlpSolver
@@ -116,7 +116,12 @@ class IKProblem:
             ["J"],
         )
         exprs = [constraint_expr(c, *self._placement(c.frame, q, p, rot)) for c in self.constraints]
-        closure = closure_expr(self.sm, self.loops, q) if self.loops is not None else ca.SX(0, 1)
+        closure = every_row = ca.SX(0, 1)
+        if self.loops is not None and mech is not None:  # constraints: an independent set
+            home = mech.family.configurations(mech).get("home")
+            rows = None if home is None else independent_rows(mech.residual_and_jacobian(home)[1])
+            closure = closure_expr(self.sm, self.loops, q, rows)
+            every_row = closure_expr(self.sm, self.loops, q)  # the residual reports them all
         m = closure.shape[0]
         self._g = ca.vertcat(*[e.g for e in exprs], closure)
         self._lbg = np.concatenate([e.lbg for e in exprs] + [np.zeros(m)])
@@ -129,7 +134,7 @@ class IKProblem:
                 res.orientation_error,
                 ca.norm_2(r),
                 ca.densify(self._g),
-                ca.norm_inf(closure) if m else ca.DM(0.0),
+                ca.norm_inf(every_row) if m else ca.DM(0.0),
             ],
             ["q", "target"],
             ["pos_err", "angle", "res", "g", "closure"],

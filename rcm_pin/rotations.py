@@ -22,6 +22,52 @@ FloatArray = NDArray[np.float64]
 ROTATION_TOL = 1e-2
 #: Default tolerance on the last row [0, 0, 0, 1] of a homogeneous transform.
 LAST_ROW_TOL = 1e-9
+#: Largest accepted magnitude of a coordinate, target entry or angle [rad, m]: larger values
+#: are meaningless for a mechanism and would overflow the squared norms of the solvers.
+MAX_ABS = 1e6
+
+
+def short_repr(x: object, limit: int = 60) -> str:
+    """``repr(x)`` on one line, cut to ``limit`` characters (messages never dump an input)."""
+    text = " ".join(repr(x).split())
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def numeric_array(x: object, name: str) -> FloatArray:
+    """A float64 array of ``x``; strings, bytes, complex numbers and non-numbers are rejected.
+
+    Raises:
+        InvalidInputError: ``x`` is not numeric (the message shows it, cut short).
+    """
+    try:
+        raw = np.asarray(x)
+        kind = raw.dtype.kind
+        if kind == "O" and any(isinstance(v, (str, bytes)) for v in raw.flat):
+            kind = "U"
+        if kind not in "biufO":
+            raise TypeError
+        return np.asarray(raw.astype(np.float64))
+    except (TypeError, ValueError, OverflowError):
+        raise InvalidInputError(
+            f"{name} {short_repr(x)} is not numeric; valid: real numbers"
+        ) from None
+
+
+def check_magnitude(a: FloatArray, name: str, bound: float = MAX_ABS) -> FloatArray:
+    """``a`` itself when every entry is finite with ``|value| <= bound``.
+
+    Raises:
+        InvalidInputError: NaN / infinite entries, or an entry beyond ``bound``.
+    """
+    if not np.isfinite(a).all():
+        raise InvalidInputError(f"{name} has NaN or infinite entries; valid: finite numbers")
+    worst = float(np.max(np.abs(a), initial=0.0))
+    if worst > bound:
+        raise InvalidInputError(
+            f"{name} has an entry of magnitude {worst:.3g}; valid: |value| <= {bound:g} "
+            "(larger values are meaningless for a mechanism)"
+        )
+    return a
 
 
 def as_finite(x: ArrayLike, name: str, tail: tuple[int, ...] = ()) -> FloatArray:
@@ -38,10 +84,7 @@ def as_finite(x: ArrayLike, name: str, tail: tuple[int, ...] = ()) -> FloatArray
     Raises:
         InvalidInputError: Wrong trailing shape, non-numeric or NaN / infinite entries.
     """
-    try:
-        a = np.asarray(x, dtype=np.float64)
-    except (TypeError, ValueError) as exc:
-        raise InvalidInputError(f"{name} must be a numeric array: {exc}") from None
+    a = numeric_array(x, name)
     if tail and (a.ndim < len(tail) or a.shape[a.ndim - len(tail) :] != tail):
         want = "(..., " + ", ".join(str(t) for t in tail) + ")"
         raise InvalidInputError(f"{name} must have shape {want}, got {a.shape}")
@@ -158,6 +201,12 @@ def project_to_rotation(R: ArrayLike, tol: float = ROTATION_TOL) -> tuple[FloatA
         NotARotationError: Some distance exceeds ``tol``.
     """
     m = as_finite(R, "R", (3, 3))
+    big = float(np.max(np.abs(m), initial=0.0))
+    if big > MAX_ABS:  # ||R - R_proj||_F >= |R_ij| - 1: no SVD of huge entries
+        raise NotARotationError(
+            f"matrix is not a rotation: an entry of magnitude {big:.3g} puts it farther than "
+            f"{big - 1.0:.3g} from the nearest rotation, which exceeds the tolerance {tol:.3g}"
+        )
     u, _, vt = np.linalg.svd(m)
     d = np.where(np.linalg.det(u @ vt) < 0.0, -1.0, 1.0)
     u[..., :, 2] *= d[..., None]
@@ -165,7 +214,8 @@ def project_to_rotation(R: ArrayLike, tol: float = ROTATION_TOL) -> tuple[FloatA
     dist = np.linalg.norm((m - proj).reshape(*m.shape[:-2], 9), axis=-1)
     worst = float(dist.max()) if dist.size else 0.0
     if worst > tol:
-        where = "" if dist.ndim == 0 else f" at index {np.unravel_index(dist.argmax(), dist.shape)}"
+        index = tuple(int(i) for i in np.unravel_index(dist.argmax(), dist.shape))
+        where = "" if dist.ndim == 0 else f" at index {index}"
         raise NotARotationError(
             f"matrix is not a rotation: distance to the nearest rotation {worst:.3g}{where} "
             f"exceeds the tolerance {tol:.3g} (Frobenius norm ||R - R_proj||)"
@@ -220,9 +270,12 @@ def pose_from_matrix(T: ArrayLike, tol: float = LAST_ROW_TOL) -> tuple[FloatArra
 
 __all__ = [
     "LAST_ROW_TOL",
+    "MAX_ABS",
     "ROTATION_TOL",
     "as_finite",
+    "check_magnitude",
     "matrix_to_rpy",
+    "numeric_array",
     "pose_from_matrix",
     "project_to_rotation",
     "random_rotations",
@@ -230,5 +283,6 @@ __all__ = [
     "rot_y",
     "rot_z",
     "rpy_to_matrix",
+    "short_repr",
     "wrap_angle",
 ]

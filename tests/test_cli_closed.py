@@ -170,7 +170,7 @@ def test_view_closed_html(capsys, tmp_path):
         (
             ["workspace", "planar_3rrr", "--n", "3"],
             "InvalidInputError",
-            "grid size 3; valid: >= 5 points per side",
+            "grid size 3; valid: 5..1001 points per side",
         ),
         (
             ["workspace", "planar_3rrr", "--phi-range", "1,0"],

@@ -152,7 +152,8 @@ def test_error_negative_length():
     with pytest.raises(XacroArgumentError) as exc:
         rcm_pin.load("planar_3rrr", distal_1=-0.1)
     assert str(exc.value) == (
-        "xacro argument distal_1=-0.1 must be > 0 for planar_3rrr; valid: a positive number"
+        "distal_1=-0.1 is out of range for planar_3rrr.urdf.xacro; valid: (0, 10] [m] "
+        "(l2_1: |B_1 C_1| (omitted in the paper's F_1))"
     )
 
 

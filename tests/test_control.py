@@ -13,7 +13,7 @@ from rcm_pin.control.references import TRAJECTORIES, get_trajectory
 from rcm_pin.control.simulate import simulate
 from rcm_pin.control.task import pinocchio_task, task_kinematics, task_output
 from rcm_pin.dynamics.tree import with_gravity
-from rcm_pin.errors import InvalidInputError, SingularConfigurationError
+from rcm_pin.errors import InvalidInputError, JointLimitError, SingularConfigurationError
 from rcm_pin.mechanisms.rcm.point import (
     joint_reference,
     point_bias,
@@ -53,14 +53,16 @@ def test_joint_space_converges(two_mass):
 
 def test_printed_sign_diverges(two_mass):
     ctrl = ComputedTorque(two_mass, PAPER, GAINS, printed_sign=True)
-    r = simulate(two_mass, ctrl, 1.0, samples=101)
+    with pytest.raises(JointLimitError, match=r"^rcm_two_mass leaves its joint range at t = "):
+        simulate(two_mass, ctrl, 1.0, samples=101)
+    r = simulate(two_mass, ctrl, 1.0, samples=101, allow_outside_limits=True)
     assert r.status.startswith("stopped")
-    assert r.t[-1] < 0.5
+    assert r.t[-1] < 0.5 and r.outside_limits
 
 
 def test_saturation_is_reported(two_mass):
     ctrl = ComputedTorque(two_mass, PAPER, GAINS, limits=np.array([0.5, 0.5, 5.0]))
-    r = simulate(two_mass, ctrl, 0.3, samples=61)
+    r = simulate(two_mass, ctrl, 0.3, samples=61, allow_outside_limits=True)  # q1 leaves
     assert r.saturated.any()
     assert np.abs(r.tau).max(axis=0) == pytest.approx([0.5, 0.5, 5.0])
 

@@ -343,6 +343,8 @@ def test_typed_errors(m4):
 @pytest.mark.parametrize("arg", fb.POSITIVE_ARGS)
 @pytest.mark.parametrize("value", [0, -0.02])
 def test_error_non_positive_link_length(arg, value):
+    what = {"frame": "l0 = |O1 O2|", "crank": "l1 = |O1 A| (driven)", "coupler": "l2 = |A B|"}
+    what["rocker"] = "l3 = |O2 B| (output)"
     assert message(XacroArgumentError, rcm_pin.load, "four_bar", **{arg: value}) == (
-        f"xacro argument {arg}={value} must be > 0 for four_bar; valid: a positive number"
+        f"{arg}={value:g} is out of range for four_bar.urdf.xacro; valid: (0, 10] [m] ({what[arg]})"
     )

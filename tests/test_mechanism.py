@@ -81,13 +81,16 @@ def test_unknown_xacro_argument_lists_valid_names():
 @pytest.mark.parametrize(
     ("args", "message"),
     [
-        ({"l9": "abc"}, r"xacro argument l9='abc' is not a finite number"),
-        ({"l9": "nan"}, r"xacro argument l9='nan' is not a finite number"),
+        ({"l9": "abc"}, r"^l9='abc' is not a number for rcm_bevel.urdf.xacro; valid: \(0, 10\]"),
+        ({"l9": "nan"}, r"^l9=nan is not finite for rcm_bevel.urdf.xacro; valid: \(0, 10\]"),
         (
             {"wrist": "maybe"},
-            r"xacro argument wrist='maybe' is not a boolean; valid: true or false",
+            r"^wrist='maybe' is not a boolean for rcm_bevel.urdf.xacro; valid: true or false$",
         ),
-        ({"l9": -0.1}, r"xacro argument l9=-0.1 must be > 0 for rcm_bevel"),
+        (
+            {"l9": -0.1},
+            r"^l9=-0.1 is out of range for rcm_bevel.urdf.xacro; valid: \(0, 10\] \[m\]",
+        ),
     ],
 )
 def test_malformed_xacro_arguments(args, message):

@@ -56,7 +56,7 @@ def test_ik_command_closed_mechanism_output():
         ik_command("planar_3rrr", [0.01, 0.02, 0.0])
     with pytest.raises(InvalidInputError, match=r"\(3,\)"):
         ik_command("planar_3rrr", pose=[0.01, 0.02])
-    with pytest.raises(InvalidInputError, match="serial mechanism: give xyz"):
+    with pytest.raises(InvalidInputError, match=r"\(serial\) is a 3x4 tool pose"):
         ik_command("rcm_bevel", pose=[0.01, 0.02, 0.1])
 
 

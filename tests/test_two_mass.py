@@ -52,6 +52,6 @@ def test_errors():
     with pytest.raises(InvalidInputError, match=r"^v must be 3 finite numbers \(q1, q2, q3\)"):
         tm.generalized_forces(tm.TwoMassParams(), np.zeros(3), np.zeros(2), np.zeros(3))
     with pytest.raises(
-        XacroArgumentError, match=r"^xacro argument L=-0.1 must be > 0 for rcm_two_mass"
+        XacroArgumentError, match=r"^L=-0.1 is out of range for rcm_two_mass.urdf.xacro; valid: \("
     ):
         rcm_pin.load("rcm_two_mass", **tm.two_mass_args(L=-0.1))

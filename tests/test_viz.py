@@ -266,4 +266,4 @@ def test_report_section_fallback(tmp_path, monkeypatch):
     result = section(tmp_path)
     assert result.title == "Scenes" and len(result.figures) == len(SCENES)
     assert all((tmp_path / f).stat().st_size > 10_000 for f in result.figures)
-    assert result.body.count("matplotlib line drawing of the joint frames") == len(SCENES)
+    assert result.body.count("URDF visual geometry shaded by matplotlib") == len(SCENES)

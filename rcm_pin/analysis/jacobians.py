@@ -36,7 +36,7 @@ def tool_jacobian(mech: Mechanism, q: ArrayLike) -> FloatArray:
     Returns:
         J with [v; ω] = J·q̇, columns in Mechanism order.
     """
-    q = mech.check_q(np.asarray(q, dtype=float))
+    q = mech.check_q(q)
     pin.computeJointJacobians(mech.model, mech.data, mech.to_pin(q))
     pin.updateFramePlacements(mech.model, mech.data)
     J = pin.getFrameJacobian(mech.model, mech.data, mech.tool_frame_id, LWA)
@@ -54,8 +54,8 @@ def jacobian_derivative(mech: Mechanism, q: ArrayLike, qd: ArrayLike) -> FloatAr
     Returns:
         J̇ such that a = J·q̈ + J̇·q̇ (classical acceleration of the tool centre).
     """
-    q = mech.check_q(np.asarray(q, dtype=float))
-    qd = mech.check_v(np.asarray(qd, dtype=float), "qd")
+    q = mech.check_q(q)
+    qd = mech.check_v(qd, "qd")
     model, data, fid = mech.model, mech.data, mech.tool_frame_id
     vpin = np.zeros(model.nv)
     idx = mech.v_index

@@ -11,6 +11,7 @@ import pinocchio as pin
 
 from rcm_pin.errors import InvalidInputError, UnknownFrameError
 from rcm_pin.model.mechanism import Mechanism
+from rcm_pin.rotations import check_magnitude, numeric_array
 
 
 def frame_pose(mech: Mechanism, q: np.ndarray, frame: str | int | None = None) -> np.ndarray:
@@ -37,12 +38,18 @@ def tool_pose(mech: Mechanism, q: np.ndarray) -> np.ndarray:
 
 
 def tool_poses(mech: Mechanism, qs: np.ndarray) -> np.ndarray:
-    """Tool poses for a batch of configurations, shape (N, 4, 4)."""
-    qs = np.atleast_2d(np.asarray(qs, dtype=float))
-    if qs.shape[1] != mech.nq or not np.all(np.isfinite(qs)):
+    """Tool poses for a batch of configurations (N, n) [rad, m], shape (N, 4, 4).
+
+    Raises:
+        InvalidInputError: not numeric, not (N, n), NaN / infinite or beyond
+            :data:`rcm_pin.rotations.MAX_ABS`.
+    """
+    qs = np.atleast_2d(numeric_array(qs, "configurations"))
+    if qs.ndim != 2 or qs.shape[1] != mech.nq or not np.all(np.isfinite(qs)):
         raise InvalidInputError(
             f"configurations have shape {qs.shape}; valid: (N, {mech.nq}) finite values"
         )
+    check_magnitude(qs, "configurations")
     out = np.empty((qs.shape[0], 4, 4))
     model, data, fid = mech.model, mech.data, mech.tool_frame_id
     for i, q_pin in enumerate(mech.to_pin(qs)):

@@ -22,9 +22,10 @@ import pinocchio as pin
 from rcm_pin.analysis import closed_position as cp
 from rcm_pin.analysis.results import PositionResult, PositionSolution, frame_placement
 from rcm_pin.analysis.serial_ik import numeric_branches
-from rcm_pin.errors import SolverError, UnreachablePoseError
+from rcm_pin.errors import InvalidInputError, SolverError, UnreachablePoseError
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import Output
+from rcm_pin.rotations import numeric_array, pose_from_matrix, short_repr
 
 #: A closed-loop solve is accepted below this closure residual [m].
 ACCEPT_TOL = 1e-12
@@ -113,12 +114,12 @@ def inverse(
         limits: keep only the solutions inside the joint limits.
 
     Raises:
-        InvalidInputError: malformed target.
+        InvalidInputError: malformed target or ``coords``.
         NotARotationError: a rotation too far from SO(3).
         SingularConfigurationError: a degenerate target (the family names the cause).
         UnreachablePoseError: no solution (or none inside the limits with ``limits``).
     """
-    output = mech.output if coords is None else mech.output.subset(tuple(coords))
+    output = mech.output if coords is None else mech.output.subset(_coords(mech, coords))
     value = output.coerce(_as_value(output, target))
     branches = mech.family.inverse_position(mech, value, output)
     if mech.loops is None:
@@ -158,13 +159,33 @@ def inverse(
     if limits:
         inside = [s for s in sols if s.within_limits]
         if not inside:
+            shown = "; ".join(f"{s.mode}: {violated_limits(mech, s.q)}" for s in sols[:4])
+            more = f"; ... ({len(sols) - 4} more)" if len(sols) > 4 else ""
             raise UnreachablePoseError(
-                f"{mech.name}: no solution of target {output.to_json(value)} lies within the "
-                f"joint limits lower={np.round(mech.lower, 6).tolist()}, upper="
-                f"{np.round(mech.upper, 6).tolist()} ({len(sols)} outside)"
+                f"{mech.name}: none of the {len(sols)} solutions of target "
+                f"{_target_text(output, value)} lies within the joint limits ({shown}{more}); "
+                "valid: a target with a solution inside the limits"
             )
         sols = inside
     return PositionResult(mech, "inverse", value, output, tuple(sols), method)
+
+
+def violated_limits(mech: Mechanism, q: np.ndarray, tol: float = 1e-12) -> str:
+    """The coordinates of q outside the joint limits, e.g. ``q3 = 0.173 > 0.12``."""
+    parts = []
+    for name, v, lo, hi in zip(mech.coordinate_names, q, mech.lower, mech.upper, strict=True):
+        if v < lo - tol:
+            parts.append(f"{name} = {v:.6g} < {lo:.6g}")
+        elif v > hi + tol:
+            parts.append(f"{name} = {v:.6g} > {hi:.6g}")
+    return ", ".join(parts) or "inside"
+
+
+def _target_text(output: Output, value: np.ndarray) -> str:
+    """x=0.1, y=0.2, ... (a rotation as 'rotation')."""
+    j = output.to_json(value)
+    return ", ".join(f"{k}={v:.6g}" if isinstance(v, float) else k for k, v in j.items()
+                     if k != "angles")  # fmt: skip
 
 
 def _placement(mech: Mechanism, q: np.ndarray) -> pin.SE3:
@@ -173,13 +194,23 @@ def _placement(mech: Mechanism, q: np.ndarray) -> pin.SE3:
     return pin.updateFramePlacement(mech.model, mech.data, mech.output.frame_id)
 
 
+def _coords(mech: Mechanism, coords: Any) -> tuple[str, ...]:
+    """``coords`` as a tuple of output tokens (a bare string or a non-sequence is refused)."""
+    if isinstance(coords, (list, tuple)) and all(isinstance(c, str) for c in coords):
+        return tuple(coords)
+    raise InvalidInputError(
+        f"coords {short_repr(coords)} is not a sequence of output coordinates; valid: a "
+        f"tuple of tokens from {', '.join(mech.output.coords)}, e.g. ('x', 'y', 'z')"
+    )
+
+
 def _as_value(output: Output, target: Any) -> Any:
     """A homogeneous matrix as the value vector of a pose output (x, y, z, R)."""
-    arr = np.asarray(target, dtype=object)
-    if output.coords == ("x", "y", "z", "rotation") and arr.shape in ((4, 4), (3, 4)):
-        from rcm_pin.rotations import pose_from_matrix
-
-        R, p = pose_from_matrix(np.asarray(target, dtype=float))
+    if output.coords != ("x", "y", "z", "rotation"):
+        return target
+    arr = numeric_array(target, "target")
+    if arr.shape in ((4, 4), (3, 4)):
+        R, p = pose_from_matrix(arr)
         return np.concatenate([p, R.reshape(9)])
     return target
 

@@ -128,7 +128,7 @@ def analyse(
 
 def causes(mech: Mechanism, q: ArrayLike) -> list[Cause]:
     """The family's named singularity causes at q (empty when regular or none known)."""
-    found = mech.family.singularity_causes(mech, mech.check_q(np.asarray(q, dtype=float)))
+    found = mech.family.singularity_causes(mech, mech.check_q(q))
     return found or []
 
 
@@ -169,7 +169,7 @@ def grid(
         (values of q_i (n,), values of q_j (n,), measure (n, n) indexed [b, a] for
         q_i[a], q_j[b]).
     """
-    q0 = mech.check_q(np.asarray(q0, dtype=float))
+    q0 = mech.check_q(q0)
     if not (0 <= i < mech.nq and 0 <= j < mech.nq and i != j):
         raise InvalidInputError(
             f"grid coordinates {i + 1},{j + 1}; valid: two different numbers in 1..{mech.nq}"

@@ -66,9 +66,9 @@ def forward(
         :class:`ToolMotion` from ``getFrameVelocity`` and ``getFrameClassicalAcceleration``
         (LOCAL_WORLD_ALIGNED).
     """
-    q = mech.check_q(np.asarray(q, dtype=float))
-    qd = mech.check_v(np.asarray(qd, dtype=float), "qd")
-    qdd = np.zeros(mech.nv) if qdd is None else mech.check_v(np.asarray(qdd, float), "qdd")
+    q = mech.check_q(q)
+    qd = mech.check_v(qd, "qd")
+    qdd = np.zeros(mech.nv) if qdd is None else mech.check_v(qdd, "qdd")
     v, a = mech.v_pin(qd), mech.v_pin(qdd)
     pin.forwardKinematics(mech.model, mech.data, mech.to_pin(q), v, a)
     pin.updateFramePlacements(mech.model, mech.data)
@@ -160,7 +160,7 @@ def inverse_velocity(
         SingularConfigurationError: J_task rank-deficient (message names the cause).
         InvalidInputError: ω not realisable (4-DOF), bad shapes.
     """
-    q = mech.check_q(np.asarray(q, dtype=float))
+    q = mech.check_q(q)
     rhs = task_target(v, omega)
     return solve_task(mech, q, tool_jacobian(mech, q)[: rhs.size], rhs)
 
@@ -178,8 +178,8 @@ def inverse_acceleration(
     Raises:
         SingularConfigurationError: J_task rank-deficient (message names the cause).
     """
-    q = mech.check_q(np.asarray(q, dtype=float))
-    qd = mech.check_v(np.asarray(qd, dtype=float), "qd")
+    q = mech.check_q(q)
+    qd = mech.check_v(qd, "qd")
     target = task_target(a, epsilon, ("a", "e"))
     m = forward(mech, q, qd, None)
     bias = np.r_[m.a, m.epsilon][: target.size]

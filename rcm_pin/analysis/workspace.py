@@ -11,6 +11,7 @@ mechanisms' analytic volume and rig specification, the planar mechanisms' areas)
 
 from __future__ import annotations
 
+import time
 from pathlib import Path
 from typing import Any
 
@@ -23,6 +24,13 @@ from rcm_pin.rotations import FloatArray
 
 #: Largest sample count accepted (memory: one (N, nq) array and one (N, 3) array).
 MAX_SAMPLES = 5_000_000
+#: Largest sample count of a closed mechanism without a closed-form workspace: each sample
+#: is a Newton solve of the loops (about 0.3 ms), so this bounds a run to tens of seconds.
+MAX_NEWTON_SAMPLES = 50_000
+#: Longest projected run of the numeric closed-loop route [s].
+MAX_SECONDS = 120.0
+#: Largest grid side of a family's workspace grid (n × n cells, several per orientation).
+MAX_GRID = 1001
 
 
 def _box(mech: Mechanism, idx: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -77,19 +85,42 @@ def volume_voxels(points: FloatArray, voxel: float) -> float:
 
 
 def summary(
-    mech: Mechanism, samples: int = 200_000, seed: int = 0, **options: Any
+    mech: Mechanism, samples: int | None = None, seed: int = 0, **options: Any
 ) -> dict[str, Any]:
     """The family's workspace figures, or the sampled cloud's extent and voxel volume.
+
+    ``samples`` defaults to 200 000 (serial and closed-form routes) and 1000 for a closed
+    mechanism without a closed-form workspace (each sample is a Newton solve).
 
     Raises:
         InvalidInputError: a grid option ``n`` below 5, or a bad sample count.
     """
-    if int(options.get("n", 5)) < 5:
-        raise InvalidInputError(f"grid size {options['n']}; valid: >= 5 points per side")
-    family = mech.family.workspace_summary(mech, samples=samples, seed=seed, **options)
+    if not 5 <= int(options.get("n", 5)) <= MAX_GRID:
+        raise InvalidInputError(f"grid size {options['n']}; valid: 5..{MAX_GRID} points per side")
+    family = mech.family.workspace_summary(
+        mech, samples=200_000 if samples is None else samples, seed=seed, **options
+    )
     if family is not None:
         return {"mechanism": mech.name, **family}
-    pts = output_points(mech, sample_joints(mech, samples, seed))
+    if samples is None:
+        samples = 200_000 if mech.loops is None else 1000
+    if mech.loops is not None and samples > MAX_NEWTON_SAMPLES:
+        raise InvalidInputError(
+            f"{mech.name}: {samples} samples, each a Newton solve of the loops; valid: at most "
+            f"{MAX_NEWTON_SAMPLES} (the family has no closed-form workspace)"
+        )
+    inputs = sample_joints(mech, samples, seed)
+    if mech.loops is not None:  # measure the cost of a Newton sample before committing
+        start = time.perf_counter()
+        output_points(mech, inputs[:5])
+        projected = (time.perf_counter() - start) / 5 * samples
+        if projected > MAX_SECONDS:
+            raise InvalidInputError(
+                f"{mech.name}: {samples} samples would take about {projected:.0f} s (a Newton "
+                f"solve each); valid: at most {MAX_SECONDS:.0f} s of work, i.e. about "
+                f"{int(samples * MAX_SECONDS / projected)} samples"
+            )
+    pts = output_points(mech, inputs)
     ok = np.all(np.isfinite(pts), axis=1)
     if not ok.any():
         raise InvalidInputError(f"{mech.name}: no sample assembled; the workspace is empty")

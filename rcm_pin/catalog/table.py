@@ -15,7 +15,15 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from rcm_pin.errors import UnknownMechanismError
-from rcm_pin.mechanisms import arms, five_bar, four_bar, planar_3rrr, rcm
+from rcm_pin.mechanisms import (
+    arms,
+    five_bar,
+    four_bar,
+    planar_3rrr,
+    rcm,
+    spherical_3rrr,
+    translational_3ppapa,
+)
 from rcm_pin.model.family import Family
 from rcm_pin.model.resources import urdf_dir, xacro_dir
 
@@ -74,7 +82,7 @@ ENTRIES: tuple[CatalogEntry, ...] = (
         rcm.FAMILY,
         "rcm_bevel.urdf.xacro",
         "RCM mechanism, bevel gears, no wrist pairs 26/27, 4 DOF (paper 000)",
-        fixed_args={"wrist": "false"},
+        fixed_args={"wrist": "false", "robot_name": "rcm_bevel_4dof"},
         positive_args=rcm.POSITIVE_ARGS,
     ),
     CatalogEntry(
@@ -111,6 +119,28 @@ ENTRIES: tuple[CatalogEntry, ...] = (
         "four_bar.urdf.xacro",
         "planar four-bar crank-rocker, crank driven, 1 DOF (paper 002 pitch drive)",
         positive_args=four_bar.POSITIVE_ARGS,
+    ),
+    CatalogEntry(
+        "spherical_3rrr",
+        spherical_3rrr.FAMILY,
+        "spherical_3rrr.urdf.xacro",
+        "spherical 3-RRR, base pairs driven, orthogonal Agile Eye by default, 3 DOF (paper 004)",
+        positive_args=spherical_3rrr.POSITIVE_ARGS,
+    ),
+    CatalogEntry(
+        "translational_3ppapa",
+        translational_3ppapa.FAMILY,
+        "translational_3ppapa.urdf.xacro",
+        "translational 3-PPaPa, parallelograms as crank + mimic, 3 DOF (paper 004 Fig. 4)",
+        positive_args=translational_3ppapa.POSITIVE_ARGS,
+    ),
+    CatalogEntry(
+        "translational_3ppapa_loops",
+        translational_3ppapa.FAMILY,
+        "translational_3ppapa.urdf.xacro",
+        "translational 3-PPaPa, parallelograms as 4R loops (over-constrained), 3 DOF (paper 004)",
+        fixed_args={"model": "loops", "robot_name": "translational_3ppapa_loops"},
+        positive_args=translational_3ppapa.POSITIVE_ARGS,
     ),
     CatalogEntry(
         "panda",

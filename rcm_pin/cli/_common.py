@@ -5,7 +5,9 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import os
 from collections.abc import Sequence
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -14,7 +16,7 @@ from rcm_pin.catalog import load
 from rcm_pin.errors import InvalidInputError, XacroArgumentError
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import POSE
-from rcm_pin.rotations import rpy_to_matrix
+from rcm_pin.rotations import MAX_ABS, rpy_to_matrix
 
 
 def parse_vector(text: str, name: str, length: int | None = None) -> np.ndarray:
@@ -98,7 +100,57 @@ def target_from_args(
     p = parse_vector(xyz, "xyz", 3)
     if not rpy:
         return p, ("x", "y", "z")
-    return np.r_[p, rpy_to_matrix(*parse_vector(rpy, "rpy", 3)).reshape(9)], POSE
+    angles = parse_vector(rpy, "rpy", 3)
+    if np.max(np.abs(angles)) > MAX_ABS:
+        raise InvalidInputError(
+            f"--rpy has an angle of magnitude {np.max(np.abs(angles)):.3g} rad; valid: "
+            f"|angle| <= {MAX_ABS:g} rad (larger angles are meaningless)"
+        )
+    return np.r_[p, rpy_to_matrix(*angles).reshape(9)], POSE
+
+
+def output_path(path: Path, option: str, directory: bool = False) -> Path:
+    """Check an output path before any work: its parent folder must exist (nothing creates
+    a missing tree silently); a file path must not be a folder, a folder not a file.
+    ``directory``: the path is a folder to write into (created when its parent exists).
+
+    Raises:
+        InvalidInputError: the parent is missing or not writable, or the kind is wrong.
+    """
+    parent = path.parent if str(path.parent) else Path(".")
+    if not parent.is_dir():
+        raise InvalidInputError(
+            f"{option} {str(path)!r}: folder {str(parent)!r} does not exist; valid: a path in "
+            "an existing folder"
+        )
+    if not os.access(parent, os.W_OK):
+        raise InvalidInputError(f"{option} {str(path)!r}: folder {str(parent)!r} is not writable")
+    if directory and path.exists() and not path.is_dir():
+        raise InvalidInputError(f"{option} {str(path)!r} is a file; valid: a folder")
+    if not directory and path.is_dir():
+        raise InvalidInputError(f"{option} {str(path)!r} is a folder; valid: a file path")
+    if directory:
+        try:
+            path.mkdir(exist_ok=True)
+        except OSError as exc:
+            raise InvalidInputError(
+                f"{option} {str(path)!r}: cannot create the folder ({exc.strerror}); valid: a "
+                "folder in a writable location"
+            ) from None
+    return path
+
+
+def exclusive(args: argparse.Namespace, *options: str) -> None:
+    """At most one of these options may be given.
+
+    Raises:
+        InvalidInputError: two or more of them are set (the message names them).
+    """
+    given = [o for o in options if getattr(args, o.lstrip("-").replace("-", "_"), None)]
+    if len(given) > 1:
+        raise InvalidInputError(
+            f"{' and '.join(given)} conflict; valid: one of {', '.join(options)}"
+        )
 
 
 def load_mechanism(args: argparse.Namespace) -> Mechanism:

@@ -21,6 +21,7 @@ from rcm_pin.cli._common import (
     emit,
     fmt,
     load_mechanism,
+    output_path,
     parse_vector,
     target_from_args,
 )
@@ -52,27 +53,48 @@ def register(sub: argparse._SubParsersAction) -> None:
         "det B over the workspace",
     )
     p.add_argument("--mode", help="working mode (index or label) of --pose or --grid")
-    p.add_argument("--phi", type=float, default=0.0, help="closed --grid: angle output [rad]")
-    p.add_argument("--n", type=int, default=121, help="closed --grid: points per side")
-    p.add_argument("--task", default="full", choices=TASKS)
-    p.add_argument("--measure", default="manipulability", choices=MEASURES)
+    p.add_argument("--phi", type=float, help="closed --grid: angle output [rad] (default 0)")
+    p.add_argument("--n", type=int, help="closed --grid: points per side (default 121)")
+    p.add_argument("--task", choices=TASKS, help="serial: Jacobian rows (default full)")
+    p.add_argument("--measure", choices=MEASURES, help="serial --grid (default manipulability)")
     p.add_argument("--wide", action="store_true", help="serial --grid over ±pi (lengths: ±max)")
     p.add_argument("--plot", type=Path, help="--grid: write a PNG")
     p.set_defaults(func=cmd_singularities)
 
     p = sub.add_parser("workspace", help="reachable set: volumes, areas, the family's figures")
     add_common(p)
-    p.add_argument("--samples", type=int, default=200_000, help="input samples (default 2e5)")
+    p.add_argument(
+        "--samples", type=int, help="input samples (default 2e5; closed, numeric route: 1000)"
+    )
     p.add_argument("--plot", type=Path, help="write a PNG of the workspace")
-    p.add_argument("--phi", type=float, default=0.0, help="planar: constant orientation [rad]")
-    p.add_argument("--phi-range", help="planar: lo,hi [rad] of the total workspace")
-    p.add_argument("--n", type=int, default=121, help="planar: grid points per side")
+    p.add_argument("--phi", type=float, help="closed: constant orientation [rad] (default 0)")
+    p.add_argument("--phi-range", help="closed: lo,hi [rad] of the total workspace")
+    p.add_argument("--n", type=int, help="closed: grid points per side (default 121)")
     p.set_defaults(func=cmd_workspace)
 
     p = sub.add_parser("accuracy", help="first-order sensitivity to manufacturing errors")
     add_common(p)
     p.add_argument("--q", help="configuration (default: the family's regular / home one)")
     p.set_defaults(func=cmd_accuracy)
+
+
+def supported(
+    mech: Mechanism, args: argparse.Namespace, closed: tuple[str, ...] = (),
+    serial: tuple[str, ...] = (),
+) -> None:  # fmt: skip
+    """Refuse options that do not apply to this kind of mechanism (never ignore them).
+
+    Raises:
+        InvalidInputError: names the option, the mechanism and the kind it applies to.
+    """
+    kind, others = ("closed", serial) if mech.loops is not None else ("serial", closed)
+    for option in others:
+        value = getattr(args, option.lstrip("-").replace("-", "_"), None)
+        if value not in (None, False):
+            applies = "serial" if kind == "closed" else "closed"
+            raise InvalidInputError(
+                f"{option} applies to {applies} mechanisms; {mech.name} is {kind}"
+            )
 
 
 def _mode_lines(rep: dict[str, Any]) -> list[str]:
@@ -107,6 +129,8 @@ def _grid_coords(text: str) -> tuple[tuple[int, int] | None, int | None]:
 
 def cmd_singularities(args: argparse.Namespace) -> int:
     """``rcm-pin singularities``."""
+    if args.plot:
+        output_path(args.plot, "--plot")
     mech = load_mechanism(args)
     target = args.pose if args.pose is not None else args.xyz
     given = [
@@ -116,6 +140,9 @@ def cmd_singularities(args: argparse.Namespace) -> int:
     ]
     if len(given) != 1:
         raise InvalidInputError("singularities needs exactly one of --q, --pose (--xyz) or --grid")
+    supported(mech, args, closed=("--phi", "--n"), serial=("--task", "--measure", "--wide"))
+    phi = 0.0 if args.phi is None else args.phi
+    task, measure = args.task or "full", args.measure or "manipulability"
     mode = parse_mode(mech, args.mode) if mech.loops is not None else None
     if args.mode is not None and mech.loops is None:
         raise InvalidInputError(
@@ -123,16 +150,9 @@ def cmd_singularities(args: argparse.Namespace) -> int:
         )
     if args.grid is not None:
         coords, n = _grid_coords(args.grid)
-        n = n or (args.n if mech.loops is not None else 41)
+        n = n or (args.n or 121 if mech.loops is not None else 41)
         res = singularity_report.grid_map(
-            mech,
-            coords,
-            n,
-            task=args.task,
-            measure=args.measure,
-            wide=args.wide,
-            mode=mode or 0,
-            phi=args.phi,
+            mech, coords, n, task=task, measure=measure, wide=args.wide, mode=mode or 0, phi=phi
         )
         res["plot"] = str(_plot_grid(mech, res, args.plot)) if args.plot else None
         emit(args, res, _grid_text(mech, res))
@@ -188,19 +208,24 @@ def _plot_grid(mech: Mechanism, res: dict[str, Any], path: Path) -> Path:
 
 def cmd_workspace(args: argparse.Namespace) -> int:
     """``rcm-pin workspace``."""
+    if args.plot:
+        output_path(args.plot, "--plot")
     mech = load_mechanism(args)
-    if not np.isfinite(args.phi):
-        raise InvalidInputError(f"--phi {args.phi}; valid: a finite angle [rad]")
-    if not 1000 <= args.samples <= ws.MAX_SAMPLES:
+    supported(mech, args, closed=("--phi", "--phi-range", "--n"))
+    phi = 0.0 if args.phi is None else args.phi
+    if not np.isfinite(phi):
+        raise InvalidInputError(f"--phi {phi}; valid: a finite angle [rad]")
+    if args.samples is not None and not 1000 <= args.samples <= ws.MAX_SAMPLES:
         raise InvalidInputError(f"--samples {args.samples}; valid: 1000..{ws.MAX_SAMPLES}")
-    options: dict[str, Any] = {"phi": args.phi, "n": args.n}
+    options: dict[str, Any] = {"phi": phi, "n": 121 if args.n is None else args.n}
     if args.phi_range:
         lo, hi = parse_vector(args.phi_range, "phi-range", 2)
         options["phi_range"] = (float(lo), float(hi))
     s = ws.summary(mech, args.samples, **options)
     s["plot"] = None
     if args.plot:
-        s["plot"] = str(ws.plot(mech, args.plot, min(args.samples, 200_000), **options))
+        n_plot = min(args.samples or 200_000, 200_000)
+        s["plot"] = str(ws.plot(mech, args.plot, n_plot, **options))
     lines = [f"{mech.name} workspace"]
     lines += [
         f"  {k}: {v:.6g}" if isinstance(v, float) else f"  {k}: {v}"

@@ -7,7 +7,7 @@ from pathlib import Path
 
 from rcm_pin.catalog import mechanisms
 from rcm_pin.catalog.files import check_rendered, render_default, write_rendered
-from rcm_pin.cli._common import add_common, emit, parse_xacro_args
+from rcm_pin.cli._common import add_common, emit, output_path, parse_xacro_args
 from rcm_pin.errors import XacroArgumentError
 
 
@@ -33,7 +33,8 @@ def cmd_list(args: argparse.Namespace) -> int:
         {"name": e.name, "kind": e.kind, "family": e.family.name, "description": e.description}
         for e in mechanisms()
     ]
-    text = "\n".join(f"{r['name']:<16} {r['kind']:<7} {r['description']}" for r in rows)
+    width = max(len(r["name"]) for r in rows)
+    text = "\n".join(f"{r['name']:<{width}}  {r['kind']:<7} {r['description']}" for r in rows)
     emit(args, {"mechanisms": rows}, text)
     return 0
 
@@ -54,6 +55,8 @@ def cmd_urdf(args: argparse.Namespace) -> int:
         return 1 if stale else 0
     if not args.name:
         raise XacroArgumentError("rcm-pin urdf needs NAME, --check or --update")
+    if args.output:
+        output_path(args.output, "-o")
     urdf = render_default(args.name, parse_xacro_args(args.arg))
     if args.output:
         args.output.write_text(urdf)

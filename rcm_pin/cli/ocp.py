@@ -1,15 +1,25 @@
 """``rcm-pin ocp ik | track``: the CasADi layer (numerical IK, tracking OCP) from the CLI.
 
 ``ocp ik NAME`` takes every catalogue entry: serial mechanisms ``--xyz`` [``--rpy``] (the
-tool frame), closed ones ``--pose`` with their output coordinates (e.g. ``--pose
-0.01,0.02,0.1`` = x, y, rz for planar_3rrr), the loop closures as equality constraints.
+tool frame) or ``--pose`` (a 3x4 tool pose ``"r11,r12,r13,x;...;r31,r32,r33,z"``, as for
+``rcm-pin ik``; not together with ``--xyz`` / ``--rpy``), closed ones ``--pose`` with
+their output coordinates (e.g. ``--pose 0.01,0.02,0.1`` = x, y, rz for planar_3rrr),
+the loop closures as equality constraints.
+
+A solve that fails (not converged, infeasible, limits violated) raises
+:class:`~rcm_pin.errors.SolverError` (exit status 3) with the reason, and its ``result``
+(``success: false``, ``reason``, the solver's status and statistics) instead of the last
+iterate; a target at a stationary point with a residual is an
+:class:`~rcm_pin.errors.UnreachablePoseError` (status 2).
 """
 
 from __future__ import annotations
 
 import argparse
 
-from rcm_pin.cli._common import add_common, emit, parse_vector, parse_xacro_args
+import numpy as np
+
+from rcm_pin.cli._common import add_common, emit, parse_matrix, parse_vector, parse_xacro_args
 from rcm_pin.errors import InvalidInputError
 
 
@@ -25,7 +35,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_common(ik)
     ik.add_argument("--xyz", help="serial: tool-centre position x,y,z [m]")
     ik.add_argument("--rpy", help="serial: alpha,beta,gamma [rad], R = Rz(gamma)Ry(beta)Rx(alpha)")
-    ik.add_argument("--pose", help="closed: values of its output coordinates, e.g. x,y,rz [m, rad]")
+    ik.add_argument(
+        "--pose",
+        help="serial: 3x4 tool pose 'r11,r12,r13,x;...;r31,r32,r33,z'; closed: values of its "
+        "output coordinates, e.g. x,y,rz [m, rad]",
+    )
     ik.add_argument(
         "--q0", help="initial guess q1,...,qn (default: mid-range; closed: the home configuration)"
     )
@@ -54,13 +68,20 @@ def cmd_ik(args: argparse.Namespace) -> int:
         args.name,
         None if args.xyz is None else parse_vector(args.xyz, "xyz", 3),
         rpy=None if args.rpy is None else parse_vector(args.rpy, "rpy", 3),
-        pose=None if args.pose is None else parse_vector(args.pose, "pose"),
+        pose=_pose(args.pose),
         q0=None if args.q0 is None else parse_vector(args.q0, "q0"),
         solver=args.solver,
         xacro_args=parse_xacro_args(args.arg),
     )
     emit(args, payload, format_ik(payload))
     return 0
+
+
+def _pose(text: str | None) -> np.ndarray | None:
+    """``--pose``: rows separated by ``;`` (a serial tool pose) or one row (closed)."""
+    if text is None:
+        return None
+    return parse_matrix(text, "pose") if ";" in text else parse_vector(text, "pose")
 
 
 def cmd_track(args: argparse.Namespace) -> int:

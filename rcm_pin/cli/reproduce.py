@@ -5,7 +5,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from rcm_pin.cli._common import emit
+from rcm_pin.cli._common import emit, output_path
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -20,6 +20,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 def cmd_reproduce(args: argparse.Namespace) -> int:
     from rcm_pin.report.writer import write_report
 
+    output_path(args.out, "--out", directory=True)
     path = write_report(args.out, only=args.only, quiet=args.json)
     emit(args, {"report": str(path)}, f"report written to {path}")
     return 0

@@ -4,6 +4,12 @@ A run is a scenario of the mechanism's family (``--scenario``; ``rcm-pin simulat
 --list`` shows them) with options that override its gains, duration, limits and drive
 switching. ``--compare`` runs a mechanism with extra drives three ways: main drives
 without limits, main drives with the limit, and switching (paper 004's study).
+
+The plant and the controller's model are both the mechanism built with the ``--arg``
+xacro arguments (e.g. ``rcm_bevel --arg q3_upper=0.3`` for paper 000's scenario). A run
+that leaves the joint range stops with a :class:`~rcm_pin.errors.JointLimitError` (exit
+status 2) naming the time [s], the joint and its limit; ``--allow-outside-limits``
+continues and lists the excursions in the output (``outside_limits``).
 """
 
 from __future__ import annotations
@@ -15,7 +21,14 @@ from typing import Any
 
 import numpy as np
 
-from rcm_pin.cli._common import add_common, emit, fmt, load_mechanism, parse_vector
+from rcm_pin.cli._common import (
+    add_common,
+    emit,
+    fmt,
+    load_mechanism,
+    output_path,
+    parse_vector,
+)
 from rcm_pin.control.computed_torque import Gains
 from rcm_pin.control.linear import error_response
 from rcm_pin.control.result import SimulationResult
@@ -59,6 +72,11 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="extra drives: main unlimited, main limited, switching",
     )
     p.add_argument("--no-gravity", action="store_true", help="simulate without gravity")
+    p.add_argument(
+        "--allow-outside-limits",
+        action="store_true",
+        help="continue when a joint leaves its range (recorded in the output) instead of stopping",
+    )
     p.add_argument("--plot", type=Path, metavar="DIR", help="write the figures into DIR")
     p.set_defaults(func=cmd_simulate)
 
@@ -117,6 +135,8 @@ def _summary(mech: Mechanism, label: str, res: SimulationResult, sc: Scenario) -
 
 def cmd_simulate(args: argparse.Namespace) -> int:
     """``rcm-pin simulate``."""
+    if args.plot:
+        output_path(args.plot, "--plot", directory=True)
     mech = load_mechanism(args)
     if args.list:
         table = scenarios(mech)
@@ -145,7 +165,8 @@ def cmd_simulate(args: argparse.Namespace) -> int:
                 replace(sc, limit=limit, switching=sc.switching or 0.2),
             ),
         ]
-    runs = [(label, s, run(mech, s, **law)) for label, s in plans]
+    allow = args.allow_outside_limits
+    runs = [(label, s, run(mech, s, allow_outside_limits=allow, **law)) for label, s in plans]
     payload: dict[str, Any] = {
         "mechanism": mech.name,
         "scenario": name,
@@ -166,6 +187,11 @@ def cmd_simulate(args: argparse.Namespace) -> int:
             f"{r['rms_error']:.4g}; peak efforts {fmt(np.array(r['peak_effort']), 4)}; "
             f"max closure residual {r['max_closure_residual']:.1e}"
         )
+        lines += [
+            f"  outside its range: {o['joint']} passes its {o['side']} limit {o['limit']:.6g} "
+            f"at t = {o['time_s']:.4g} s (farthest {o['farthest']:.6g})"
+            for o in r["outside_limits"]
+        ]
     lines += [f"wrote {f}" for f in payload["figures"]]
     emit(args, payload, "\n".join(lines))
     return 0

@@ -15,7 +15,14 @@ from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from rcm_pin.cli._common import add_common, emit, fmt, load_mechanism, parse_vector
+from rcm_pin.cli._common import (
+    add_common,
+    emit,
+    fmt,
+    load_mechanism,
+    output_path,
+    parse_vector,
+)
 from rcm_pin.errors import InvalidInputError
 
 if TYPE_CHECKING:
@@ -80,6 +87,9 @@ def cmd_view(args: argparse.Namespace) -> int:
     from rcm_pin.viz.snapshot import snapshot
     from rcm_pin.viz.viewer import Viewer
 
+    for option, path in (("--html", args.html), ("--png", args.png)):
+        if path is not None:
+            output_path(path, option)
     mech = load_mechanism(args)
     n_inputs = len(mech.input_names)
     inputs = parse_vector(args.q, "q", n_inputs) if args.q is not None else None

@@ -37,6 +37,9 @@ class SimulationResult:
         gains: controller gains (None for a free run).
         wall_time: integration wall time [s].
         nfev: right-hand-side evaluations.
+        outside_limits: joints outside their range in a run with
+            ``allow_outside_limits`` (joint, side, first time [s], limit, farthest value
+            [rad, m]); empty otherwise.
     """
 
     mechanism: str
@@ -56,6 +59,7 @@ class SimulationResult:
     gains: Gains | None
     wall_time: float
     nfev: int
+    outside_limits: tuple[dict[str, Any], ...] = ()
 
     @property
     def error(self) -> np.ndarray:
@@ -99,6 +103,7 @@ class SimulationResult:
             "max_closure_residual": float(np.max(self.closure_residual)),
             "wall_time": self.wall_time,
             "nfev": self.nfev,
+            "outside_limits": list(self.outside_limits),
         }
 
     # -------------------------------------------------------------- construction

@@ -138,8 +138,15 @@ def start_state(mech: Mechanism, sc: Scenario) -> tuple[np.ndarray | None, np.nd
     return q0, velocity_for_output(mech, q0, np.asarray(xd0, dtype=float))
 
 
-def run(mech: Mechanism, sc: Scenario, **law: Any) -> SimulationResult:
-    """Simulate a scenario (module docstring); ``law`` goes to :func:`controller`."""
+def run(
+    mech: Mechanism, sc: Scenario, *, allow_outside_limits: bool = False, **law: Any
+) -> SimulationResult:
+    """Simulate a scenario (module docstring); ``law`` goes to :func:`controller`.
+
+    Raises:
+        JointLimitError: the run leaves the joint range of ``mech`` (its xacro arguments
+            set it), unless ``allow_outside_limits`` (then the result records it).
+    """
     q0, v0 = start_state(mech, sc)
     ctrl = controller(mech, sc, **law)
     return simulate(
@@ -154,6 +161,7 @@ def run(mech: Mechanism, sc: Scenario, **law: Any) -> SimulationResult:
         method=sc.method,
         max_step=sc.max_step,
         stop_error=0.5 if mech.loops is None else None,
+        allow_outside_limits=allow_outside_limits,
     )
 
 

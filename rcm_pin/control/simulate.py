@@ -12,12 +12,20 @@ may differ from the plant) or are zero. The run stops at the family's stop condi
 (leaving the regular region), when the task error exceeds ``stop_error`` and at any
 further ``events`` (terminal). Output: every ``samples`` uniform times, or the solver's
 own steps with ``samples=None``.
+
+Joint range: a run that starts or gets outside the plant's joint limits (``plant.lower``,
+``plant.upper``, 1e-9 slack) stops with a :class:`~rcm_pin.errors.JointLimitError` (CLI
+exit status 2) naming the time [s], the joint and the limit it passes. With
+``allow_outside_limits=True`` (CLI ``--allow-outside-limits``) it continues and the
+result records every excursion (``SimulationResult.outside_limits``).
 """
 
 from __future__ import annotations
 
 import time
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
+from dataclasses import replace
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
@@ -27,7 +35,7 @@ from rcm_pin.control.computed_torque import ComputedTorque, Effort
 from rcm_pin.control.result import SimulationResult
 from rcm_pin.dynamics import constrained as cd
 from rcm_pin.dynamics.tree import solve_mass
-from rcm_pin.errors import InvalidInputError
+from rcm_pin.errors import InvalidInputError, JointLimitError
 from rcm_pin.model.family import StopEvent
 from rcm_pin.model.mechanism import Mechanism
 
@@ -97,6 +105,7 @@ def simulate(
     max_step: float = np.inf,
     events: Sequence[StopEvent] = (),
     baumgarte: tuple[float, float] = (50.0, 1.0),
+    allow_outside_limits: bool = False,
 ) -> SimulationResult:
     """Integrate the plant under a controller (or with τ = 0 when ``controller`` is None).
 
@@ -116,9 +125,13 @@ def simulate(
         max_step: largest solver step [s].
         events: further terminal stop conditions (description, g(t, q, v)).
         baumgarte: closure stabilisation of a closed plant (ω [rad/s], ζ).
+        allow_outside_limits: continue outside the joint limits and record it
+            (``outside_limits`` of the result) instead of stopping.
 
     Raises:
         InvalidInputError: duration ≤ 0, bad q0 / v0, or no q0 and no way to find one.
+        JointLimitError: the run starts or gets outside the joint limits (module
+            docstring), unless ``allow_outside_limits``.
     """
     if not (np.isfinite(duration) and duration > 0):
         raise InvalidInputError(f"duration {duration} is invalid; valid: > 0 [s]")
@@ -128,6 +141,7 @@ def simulate(
             raise InvalidInputError("q0 is required without a controller")
         q0 = initial_state(plant, controller)
     q0 = plant.check_q(q0, "q0")
+    bounds = [] if allow_outside_limits else _limit_events(plant, q0)
     v0 = np.zeros(nv) if v0 is None else plant.check_v(v0, "v0")
     fd = _Plant(plant, baumgarte)
     bar = None
@@ -170,6 +184,7 @@ def simulate(
 
         handler.terminal = True  # type: ignore[attr-defined]
         handlers.append(handler)
+    handlers += [b[0] for b in bounds]
     t_eval = None if samples is None else np.linspace(0.0, duration, samples)
     start = time.perf_counter()
     sol = solve_ivp(
@@ -188,13 +203,88 @@ def simulate(
         bar.update(max(round(duration - shown[0], 6), 0.0))
         bar.close()
     status = "completed"
+    for (_, i, side), te in zip(bounds, (sol.t_events or [])[len(stops) :]):
+        if len(te):
+            raise JointLimitError(_left_range(plant, float(te[0]), i, side))
     if sol.status == 1:
         status = "stopped: " + next(nm for (nm, _), te in zip(stops, sol.t_events) if len(te))
     elif sol.status < 0:
         status = f"failed: {sol.message}"
-    return SimulationResult.build(
+    result = SimulationResult.build(
         plant, controller, sol.t, sol.y[:n].T, sol.y[n:].T, status, wall, int(sol.nfev), effort
+    )
+    if allow_outside_limits:
+        result = replace(result, outside_limits=outside_limits(plant, result.t, result.q))
+    return result
+
+
+#: Slack of the joint-range check [rad, m].
+LIMIT_TOL = 1e-9
+
+
+def _left_range(plant: Mechanism, t: float, i: int, side: str, q: float | None = None) -> str:
+    """The message of a run outside the joint range (``q``: the value at the start)."""
+    unit = "rad" if plant.revolute[i] else "m"
+    limit = plant.upper[i] if side == "upper" else plant.lower[i]
+    where = "above" if side == "upper" else "below"
+    what = (
+        f"starts outside its joint range at t = 0 s: {plant.coordinate_names[i]} = {q:.6g} "
+        f"{unit} {where} its {side} limit {limit:.6g} {unit}"
+        if q is not None
+        else f"leaves its joint range at t = {t:.6g} s: {plant.coordinate_names[i]} passes "
+        f"its {side} limit {limit:.6g} {unit}"
+    )
+    return (
+        f"{plant.name} {what}; valid: a run within [{plant.lower[i]:.6g}, "
+        f"{plant.upper[i]:.6g}] {unit} (the limits come from the xacro arguments, "
+        "--arg KEY=VALUE), or allow_outside_limits=True (--allow-outside-limits) to "
+        "continue and record it"
     )
 
 
-__all__ = ["initial_state", "simulate"]
+def _limit_events(plant: Mechanism, q0: np.ndarray) -> list[tuple[Callable[..., float], int, str]]:
+    """Terminal events (handler, joint, side) at every finite joint limit.
+
+    Raises:
+        JointLimitError: q0 is already outside.
+    """
+    out: list[tuple[Callable[..., float], int, str]] = []
+    for i in range(plant.nq):
+        for side, sign, limit in (("upper", 1.0, plant.upper[i]), ("lower", -1.0, plant.lower[i])):
+            if not np.isfinite(limit):
+                continue
+            if sign * (q0[i] - limit) > LIMIT_TOL:
+                raise JointLimitError(_left_range(plant, 0.0, i, side, float(q0[i])))
+
+            def event(
+                t: float, y: np.ndarray, i: int = i, s: float = sign, b: float = limit
+            ) -> float:
+                return LIMIT_TOL - s * (y[i] - b)
+
+            event.terminal = True  # type: ignore[attr-defined]
+            event.direction = -1  # type: ignore[attr-defined]
+            out.append((event, i, side))
+    return out
+
+
+def outside_limits(plant: Mechanism, t: np.ndarray, q: np.ndarray) -> tuple[dict[str, Any], ...]:
+    """Every joint outside its range in the samples: first time [s], the limit, the
+    farthest value [rad, m]."""
+    out = []
+    for i, name in enumerate(plant.coordinate_names):
+        for side, excess in (
+            ("upper", q[:, i] - plant.upper[i]),
+            ("lower", plant.lower[i] - q[:, i]),
+        ):
+            bad = excess > LIMIT_TOL
+            if bad.any():
+                k = int(np.argmax(excess))
+                out.append({
+                    "joint": name, "side": side, "time_s": float(t[int(np.argmax(bad))]),
+                    "limit": float(plant.upper[i] if side == "upper" else plant.lower[i]),
+                    "farthest": float(q[k, i]),
+                })  # fmt: skip
+    return tuple(out)
+
+
+__all__ = ["LIMIT_TOL", "initial_state", "outside_limits", "simulate"]

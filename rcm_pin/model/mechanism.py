@@ -34,6 +34,7 @@ from rcm_pin.model import loops as lp
 from rcm_pin.model.coupling import Coupling
 from rcm_pin.model.family import Family
 from rcm_pin.model.output import Output
+from rcm_pin.rotations import MAX_ABS, check_magnitude, numeric_array
 
 
 @dataclass(frozen=True)
@@ -179,29 +180,29 @@ class Mechanism:
     def q_pin(self, q: np.ndarray) -> np.ndarray:
         """Validated Pinocchio configuration of one coordinate vector (the hot path).
 
-        A float64 array of the right shape is checked for NaN with one dot product and
-        passed through without a copy when Pinocchio's order is the coordinate order.
+        A float64 array of the right shape is checked for NaN and magnitude with one
+        ``math.hypot`` and passed through without a copy when Pinocchio's order is the
+        coordinate order.
 
         Raises:
             InvalidInputError: wrong shape or NaN / infinite entries.
         """
         if not (type(q) is np.ndarray and q.shape == (self.nq,) and q.dtype == np.float64):
             q = self.check_q(q)
-        elif not math.isfinite(q.dot(q)):
-            q = self.check_q(q)  # raises with the full message
+        elif not math.hypot(*q) <= MAX_ABS:  # NaN, inf or a large entry (hypot never overflows)
+            q = self.check_q(q)  # raises with the full message, or accepts a long vector
         return q if self.identity_order else self.to_pin(q)
 
     def check_q(self, q: Any, name: str = "q", size: int | None = None) -> np.ndarray:
-        """Validate a coordinate vector (or any vector of ``size``): shape and finiteness.
+        """Validate a coordinate vector (or any vector of ``size``): shape, finiteness and
+        magnitude (every entry within :data:`rcm_pin.rotations.MAX_ABS` [rad, m, rad/s, N·m]).
 
         Raises:
-            InvalidInputError: not numeric, wrong length or NaN / infinite entries.
+            InvalidInputError: not numeric (strings and complex numbers included), wrong
+                length, NaN / infinite entries or an entry beyond ``MAX_ABS``.
         """
         n = self.nq if size is None else size
-        try:
-            arr = np.asarray(q, dtype=float)
-        except (TypeError, ValueError):
-            raise InvalidInputError(f"{name} {q!r} is not a numeric vector") from None
+        arr = numeric_array(q, name)
         if arr.shape != (n,):
             what = ", ".join(self.coordinate_names) if size is None else f"{n} values"
             raise InvalidInputError(
@@ -209,7 +210,7 @@ class Mechanism:
             )
         if not np.all(np.isfinite(arr)):
             raise InvalidInputError(f"{name} has NaN or infinite entries: {arr.tolist()}")
-        return arr
+        return check_magnitude(arr, name)
 
     def check_v(self, v: Any, name: str = "v") -> np.ndarray:
         """Validate a velocity-coordinate vector (nv,)."""

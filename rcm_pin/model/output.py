@@ -27,7 +27,14 @@ import numpy as np
 import pinocchio as pin
 
 from rcm_pin.errors import InvalidInputError
-from rcm_pin.rotations import ROTATION_TOL, matrix_to_rpy, project_to_rotation, wrap_angle
+from rcm_pin.rotations import (
+    ROTATION_TOL,
+    check_magnitude,
+    matrix_to_rpy,
+    numeric_array,
+    project_to_rotation,
+    wrap_angle,
+)
 
 TOKENS = ("x", "y", "z", "rx", "ry", "rz", "rotation")
 _ROW = {"x": 0, "y": 1, "z": 2, "rx": 3, "ry": 4, "rz": 5}
@@ -147,13 +154,11 @@ class Output:
         projected onto SO(3).
 
         Raises:
-            InvalidInputError: wrong length or non-finite entries.
+            InvalidInputError: not numeric, wrong length, non-finite entries or an entry
+                beyond :data:`rcm_pin.rotations.MAX_ABS` [m, rad].
             NotARotationError: a rotation too far from SO(3).
         """
-        try:
-            arr = np.asarray(target, dtype=float)
-        except (TypeError, ValueError):
-            raise InvalidInputError(f"{name} {target!r} is not numeric") from None
+        arr = numeric_array(target, name)
         if self.coords == ("rotation",) and arr.shape == (3, 3):
             arr = arr.reshape(9)
         if arr.shape != (self.size,):
@@ -163,6 +168,7 @@ class Output:
             )
         if not np.all(np.isfinite(arr)):
             raise InvalidInputError(f"{name} has NaN or infinite entries: {arr.tolist()}")
+        check_magnitude(arr, name)
         out = arr.copy()
         k = 0
         for c in self.coords:

@@ -1,5 +1,8 @@
 """Xacro rendering with argument validation and a content-hash cache.
 
+Arguments are validated before rendering against the kinds and ranges documented in the
+xacro itself (:mod:`rcm_pin.model.xacro_ranges`).
+
 A rendered URDF is cached under a key made of the SHA-256 of every ``*.xacro`` file in
 the model's directory (so an edited include invalidates the cache too) and of the
 sorted argument mapping. The cache lives in memory and on disk in
@@ -9,19 +12,14 @@ sorted argument mapping. The cache lives in memory and on disk in
 from __future__ import annotations
 
 import hashlib
-import math
 import os
 import re
-import xml.etree.ElementTree as ET
 from collections.abc import Mapping
-from functools import lru_cache
 from pathlib import Path
 
 from rcm_pin.errors import XacroArgumentError
+from rcm_pin.model.xacro_ranges import check_pairs, check_value, declared_specs
 
-_XACRO_NS = "{http://www.ros.org/wiki/xacro}"
-_TRUE = {"true", "1", "yes", "on"}
-_FALSE = {"false", "0", "no", "off"}
 _memory: dict[str, str] = {}
 
 
@@ -30,82 +28,41 @@ def cache_dir() -> Path:
     return Path(os.environ.get("RCM_PIN_CACHE", Path.home() / ".cache" / "rcm-pin"))
 
 
-@lru_cache(maxsize=64)
-def _declared_args_cached(path: str, mtime_ns: int) -> dict[str, str]:
-    declared: dict[str, str] = {}
-    root = ET.parse(path).getroot()
-    for element in root.iter(f"{_XACRO_NS}arg"):
-        declared[element.attrib["name"]] = element.attrib.get("default", "")
-    for element in root.iter(f"{_XACRO_NS}include"):
-        filename = element.attrib.get("filename", "")
-        if "$(" in filename:
-            continue
-        included = Path(path).parent / filename
-        if included.exists():
-            declared.update(declared_args(included))
-    return declared
-
-
 def declared_args(path: str | Path) -> dict[str, str]:
     """The ``xacro:arg`` names of a xacro file (and its includes) with their defaults."""
-    p = Path(path)
-    return dict(_declared_args_cached(str(p), p.stat().st_mtime_ns))
-
-
-def _normalise(name: str, value: object, default: str) -> str:
-    """Check one argument against the kind of its default and return its text."""
-    text = str(value).strip() if not isinstance(value, bool) else str(value).lower()
-    if default.lower() in _TRUE | _FALSE:
-        if text.lower() not in _TRUE | _FALSE:
-            raise XacroArgumentError(
-                f"xacro argument {name}={value!r} is not a boolean; valid: true or false"
-            )
-        return "true" if text.lower() in _TRUE else "false"
-    if _is_number(default):
-        if not _is_number(text):
-            raise XacroArgumentError(
-                f"xacro argument {name}={value!r} is not a finite number; "
-                f"valid: a finite number (default {default})"
-            )
-        return text
-    if not re.fullmatch(r"[A-Za-z0-9_.\-]+", text):
-        raise XacroArgumentError(
-            f"xacro argument {name}={value!r} has characters outside [A-Za-z0-9_.-]"
-        )
-    return text
-
-
-def _is_number(text: str) -> bool:
-    try:
-        return math.isfinite(float(text))
-    except ValueError:
-        return False
+    return {name: spec.default for name, spec in declared_specs(path).items()}
 
 
 def validate_args(path: str | Path, args: Mapping[str, object]) -> dict[str, str]:
-    """Validate xacro arguments against the file's declarations.
+    """Validate xacro arguments against the file's documented declarations.
+
+    The kinds and ranges come from the xacro's own comments (the convention of
+    :mod:`rcm_pin.model.xacro_ranges`); every limit pair is checked after merging the
+    given arguments with the defaults.
 
     Args:
         path: xacro file.
         args: argument name -> value (numbers, booleans or strings).
 
     Returns:
-        The arguments as xacro text values.
+        The given arguments as xacro text values.
 
     Raises:
-        XacroArgumentError: unknown name (the message lists the valid names) or a value
-            of the wrong kind (a number where the default is a number, true/false where
-            it is a boolean).
+        XacroArgumentError: unknown name (the message lists the valid names); a value of
+            the wrong kind, not finite, out of its documented range or not one of its
+            enumerated values; a limit pair with lower >= upper. The message names the
+            argument, the value and the valid range with its unit.
     """
-    declared = declared_args(path)
+    p = Path(path)
+    specs = declared_specs(p)
     out: dict[str, str] = {}
     for name, value in args.items():
-        if name not in declared:
+        if name not in specs:
             raise XacroArgumentError(
-                f"unknown xacro argument {name!r} for {Path(path).name}; "
-                f"valid: {', '.join(sorted(declared))}"
+                f"unknown xacro argument {name!r} for {p.name}; valid: {', '.join(sorted(specs))}"
             )
-        out[name] = _normalise(name, value, declared[name])
+        out[name] = check_value(specs[name], value, p.name)
+    check_pairs(specs, out, p.name)
     return out
 
 
@@ -157,7 +114,11 @@ def render_xacro(path: str | Path, args: Mapping[str, object] | None = None) -> 
     try:
         document = xacro.process_file(str(p), mappings=text_args)  # type: ignore[attr-defined]
     except Exception as exc:  # xacro raises its own XacroException and NameError
-        raise XacroArgumentError(f"xacro failed on {p.name} with {text_args}: {exc}") from exc
+        given = ", ".join(sorted(text_args)) or "none"
+        first = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
+        raise XacroArgumentError(
+            f"xacro failed on {p.name} (arguments given: {given}): {first}"
+        ) from exc
     urdf = _strip_banner(document.toprettyxml(indent="  "))
     _memory[key] = urdf
     try:

@@ -1,9 +1,11 @@
 """Report section: pictures of the RCM mechanisms (Meshcat scenes, PNG snapshots).
 
 Each scene is built with :class:`rcm_pin.viz.Viewer` (mimic model, RCM marker, tool axis),
-exported as static HTML and photographed by headless Chromium; without Chromium a
-matplotlib line drawing of the joint frames is embedded instead, and the text says so
-(:func:`rcm_pin.viz.snapshot.snapshot`, the browser-else-fallback picture of every mechanism).
+exported as static HTML and photographed by headless Chromium; without Chromium the same
+bodies and markers are rendered by matplotlib from the same camera (the URDF's visual geometry
+as shaded triangles, :func:`rcm_pin.viz.drawing.fallback_png`), and the table says which route
+made each picture (:func:`rcm_pin.viz.snapshot.snapshot`, the browser-else-fallback picture of
+every mechanism).
 """
 
 from __future__ import annotations
@@ -27,7 +29,8 @@ SCENES: tuple[tuple[str, tuple[float, ...], str], ...] = (
 
 _METHOD = {
     "chromium": "Meshcat scene rendered by headless Chromium",
-    "matplotlib": "matplotlib line drawing of the joint frames (Chromium not available)",
+    "matplotlib": "URDF visual geometry shaded by matplotlib, same camera and markers "
+    "(Chromium not available)",
 }
 
 
@@ -37,7 +40,8 @@ def section(out_dir: Path) -> Section:
     lines = [
         "Bodies from the URDF visual geometry on the mimic model (transmission links "
         "follow q2); the red sphere is the remote centre A, the green rod the output axis "
-        "e4. Each picture links its interactive static Meshcat page.",
+        "e4 (drawn over the bodies in the matplotlib pictures). Each picture links its "
+        "interactive static Meshcat page.",
         "",
         "| picture | mechanism, q | tool centre [m] | RCM error [m] | picture made by |",
         "| --- | --- | --- | ---: | --- |",

@@ -10,7 +10,9 @@
 * :mod:`.camera`: framing and projection arithmetic;
 * :mod:`.snapshot`: the browser-else-fallback picture (:func:`picture` of a viewer,
   :func:`~rcm_pin.viz.snapshot.snapshot` of a mechanism at q), headless Chromium;
-* :mod:`.drawing`: the matplotlib fallback drawing.
+* :mod:`.drawing`: the no-browser picture (visual geometry shaded by matplotlib), built on
+  :mod:`.triangles` (the scene's triangle meshes) and :mod:`.shading` (projection, Lambert
+  shading, painter's order).
 """
 
 from rcm_pin.viz.snapshot import picture

@@ -1,10 +1,11 @@
-"""PNG pictures of mechanism scenes: headless Chromium, or a matplotlib fallback.
+"""PNG pictures of mechanism scenes: headless Chromium, or a matplotlib rendering.
 
 :func:`screenshot_html` renders a static Meshcat page (:meth:`rcm_pin.viz.viewer.Viewer.save_html`)
 in headless Chromium with software WebGL (SwiftShader) and a fresh profile directory.
-:func:`rcm_pin.viz.drawing.fallback_png` draws the links, joint frames and cut points with
-matplotlib (no browser needed). :func:`picture` (of a viewer) and :func:`snapshot` (of a
-mechanism at a configuration) are the one helper that tries the first and falls back to
+:func:`rcm_pin.viz.drawing.fallback_png` draws the same scene (the URDF's visual geometry,
+shaded, and the markers) with matplotlib from the same camera (no browser needed).
+:func:`picture` (of a viewer) and :func:`snapshot` (of a mechanism at a configuration) are
+the one helper that tries the first and falls back to
 the second, for every mechanism.
 """
 
@@ -112,13 +113,14 @@ def picture(
             the browser shows one of its frames).
         png: output path.
         html: also keep the static Meshcat page here (default: a temporary file).
-        size: picture size [px] (Chromium).
+        size: picture size [px].
         browser: try headless Chromium first.
 
     Returns:
         ``"chromium"`` (the Meshcat scene rendered by headless Chromium) or ``"matplotlib"``
-        (:func:`rcm_pin.viz.drawing.fallback_png` of the mechanism at ``viewer.q``, used
-        when Chromium is absent or fails).
+        (:func:`rcm_pin.viz.drawing.fallback_png` of the mechanism at ``viewer.q``: its
+        visual geometry shaded, with the viewer's markers and camera; used when Chromium is
+        absent or fails).
     """
     with tempfile.TemporaryDirectory(prefix="rcm_pin_scene_") as tmp:
         page = viewer.save_html(html or Path(tmp) / "scene.html", controls=False)
@@ -128,7 +130,8 @@ def picture(
                 return "chromium"
             except SnapshotError:
                 pass
-    fallback_png(viewer.mech, viewer.q, png)
+    fallback_png(viewer.mech, viewer.q, png, size=size, camera=viewer.camera,
+                 geom=viewer.viz.visual_model)  # fmt: skip
     return "matplotlib"
 
 
@@ -146,7 +149,7 @@ def snapshot(mech: Mechanism, q: np.ndarray | None, png: str | Path, *,
         q: coordinates (n,) [rad, m] (closed mechanisms: a closed configuration).
         png: output path.
         html: also keep the static Meshcat page here.
-        size: picture size [px] (Chromium).
+        size: picture size [px].
         browser: try headless Chromium first.
 
     Returns:

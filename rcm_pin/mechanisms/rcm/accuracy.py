@@ -120,7 +120,7 @@ def report(mech: Mechanism, q: FloatArray) -> dict[str, Any]:
             f"the RCM accuracy table needs an RCM mechanism, got {mech.name}; valid: "
             "rcm_bevel, rcm_bevel_4dof, rcm_belt"
         )
-    q = mech.check_q(np.asarray(q, dtype=float))
+    q = mech.check_q(q)
     rows: list[dict[str, Any]] = []
     for param in params:
         d, _ = xacro_sensitivity(mech, q, param)

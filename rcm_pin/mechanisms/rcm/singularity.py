@@ -35,7 +35,7 @@ def classify(mech: Mechanism, q: ArrayLike, tol: float = RANK_TOL) -> list[Cause
             f"classify needs an RCM mechanism, got {mech.name}; valid: rcm_bevel, "
             "rcm_bevel_4dof, rcm_belt (use analyse() for any mechanism)"
         )
-    q = mech.check_q(np.asarray(q, dtype=float))
+    q = mech.check_q(q)
     out: list[Cause] = []
     four = mech.nq == 4
     if abs(q[2]) <= tol:
@@ -100,7 +100,7 @@ def paper_claims(mech: Mechanism, q_ref: ArrayLike | None = None) -> list[dict[s
         One dict per claim: claim, q, ranks, verdict, explanation.
     """
     base = np.array([0.3, 0.2, 0.08, 0.1, 0.5, 0.2])[: mech.nq] if q_ref is None else q_ref
-    base = mech.check_q(np.asarray(base, dtype=float))
+    base = mech.check_q(base)
     ref = {t: analyse(mech, base, t).rank for t in TASKS}
     claims = [("q3 = 0", 2, 0.0), ("q1 = +pi/2", 0, np.pi / 2), ("q1 = -pi/2", 0, -np.pi / 2)]
     claims += [("q2 = +pi/2", 1, np.pi / 2), ("q2 = -pi/2", 1, -np.pi / 2)]

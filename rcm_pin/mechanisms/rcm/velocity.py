@@ -129,7 +129,7 @@ def inverse_velocity(
 ) -> FloatArray:
     """q̇ from [v; ω] with the closed-form Jacobian (see the Pinocchio route's docstring)."""
     _require_rcm(mech)
-    q = mech.check_q(np.asarray(q, dtype=float))
+    q = mech.check_q(q)
     rhs = task_target(v, omega)
     return solve_task(mech, q, closed_form_jacobian(q, wrist_type(mech))[: rhs.size], rhs)
 
@@ -139,8 +139,8 @@ def inverse_acceleration(
 ) -> FloatArray:
     """q̈ from [a; ε] with the closed-form Jacobian and bias (:func:`closed_form_forward`)."""
     _require_rcm(mech)
-    q = mech.check_q(np.asarray(q, dtype=float))
-    qd = mech.check_q(np.asarray(qd, dtype=float), "qd")
+    q = mech.check_q(q)
+    qd = mech.check_q(qd, "qd")
     target = task_target(a, epsilon, ("a", "e"))
     m = closed_form_forward(q, qd, None, wrist_type(mech))
     bias = np.r_[m.a, m.epsilon][: target.size]
