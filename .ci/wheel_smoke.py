@@ -33,7 +33,7 @@ def output_values(solution: dict, fk: dict) -> np.ndarray:
     """The tool pose (serial) or the output coordinates (closed) of a solution."""
     if fk["output_coords"] == ["x", "y", "z", "rotation"]:
         return np.array(solution["pose"])
-    return np.array([solution["output"][c] for c in fk["output_coords"]])
+    return np.concatenate([np.ravel(solution["output"][c]) for c in fk["output_coords"]])
 
 
 names = [m["name"] for m in cli("list")["mechanisms"]]
@@ -50,7 +50,8 @@ for name in names:
         pose = np.array(sol["pose"])
         target = ["--pose", ";".join(",".join(repr(float(v)) for v in r) for r in pose[:3])]
     else:
-        target = ["--pose=" + ",".join(repr(float(sol["output"][c])) for c in fk["output_coords"])]
+        flat = np.concatenate([np.ravel(sol["output"][c]) for c in fk["output_coords"]])
+        target = ["--pose=" + ",".join(repr(float(v)) for v in flat)]
     ik = cli("ik", name, *target)
     assert ik["count"] >= 1, ik
     # every solution reaches the fk output (a redundant arm need not return the fk input):
