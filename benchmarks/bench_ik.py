@@ -5,7 +5,9 @@ Prints a JSON document with per-pose times [ns] (medians over ``--repeat`` runs)
 * ``rcm_pin.mechanisms.rcm.analytic_ik.ik_pose`` on all ``--n`` poses at once (all 8
   branches; includes allocating the (n, 8, 6) result, 384 bytes per pose, and, unless
   ``--no-check``, the SO(3) screen);
-* the same function called once per pose in a Python loop (``--n-loop`` poses);
+* the same function called once per pose in a Python loop (``--n-loop`` poses): the
+  scalar fast path of :mod:`rcm_pin.mechanisms.rcm.ik_scalar`, and the same poses as
+  batches of one (the vectorised code);
 * the generic ``rcm_pin.inverse(mech, T)`` once per pose (``--n-loop`` poses): it wraps the
   analytic IK, fits the branches into the joint limits and checks every branch by
   Pinocchio forward kinematics;
@@ -82,15 +84,22 @@ def main(argv: list[str] | None = None) -> dict[str, object]:
         for i in range(m):
             ik_pose(poses[i], args.wrist, check_rotation=check)
 
+    def loop_batch() -> None:  # a batch of one pose skips the scalar fast path
+        for i in range(m):
+            ik_pose(poses[i : i + 1], args.wrist, check_rotation=check)
+
     def inverse() -> None:
         for i in range(m):
             rcm_pin.inverse(mech, poses[i])
 
     vec = "analytic_ik.ik_pose, vectorised"
-    one = "analytic_ik.ik_pose, one pose per call (Python loop)"
+    one = "analytic_ik.ik_pose, one pose per call (scalar fast path, rcm.ik_scalar)"
+    batch1 = "analytic_ik.ik_pose, one pose per call as a batch of one (vectorised code)"
     inv = "rcm_pin.inverse(mech, T), one pose per call"
-    runs = median_times({vec: vectorised, one: loop, inv: inverse}, args.repeat)
-    times = {vec: runs[vec] / args.n, one: runs[one] / m, inv: runs[inv] / m}
+    cases = {vec: vectorised, one: loop, batch1: loop_batch, inv: inverse}
+    runs = median_times(cases, args.repeat)
+    times = {vec: runs[vec] / args.n, one: runs[one] / m, batch1: runs[batch1] / m}
+    times[inv] = runs[inv] / m
 
     k = min(1000, args.n)
     err = np.abs(
@@ -102,12 +111,17 @@ def main(argv: list[str] | None = None) -> dict[str, object]:
         "benchmark": "inverse kinematics (rcm_bevel, all 8 branches)",
         "wrist": args.wrist,
         "check_rotation": check,
-        "poses": {vec: args.n, one: m, inv: m},
+        "poses": {vec: args.n, one: m, batch1: m, inv: m},
         "repeat": args.repeat,
         "statistic": "median over back-to-back repeats of the time per pose",
         "per_pose_ns": {key: 1e9 * t for key, t in times.items()},
         "poses_per_s": {key: 1.0 / t for key, t in times.items()},
-        "ratios": [ratio(one, vec, times), ratio(inv, one, times), ratio(inv, vec, times)],
+        "ratios": [
+            ratio(one, vec, times),
+            ratio(batch1, one, times),
+            ratio(inv, one, times),
+            ratio(inv, vec, times),
+        ],
         "checks": {
             f"FK(IK) max error on {k} poses (all branches)": float(err),
             f"rcm_pin.inverse branch counts on {len(counts)} poses": sorted(set(counts)),

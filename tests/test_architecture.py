@@ -28,6 +28,8 @@ SPECIFIC = (
     "rcm_pin/report/dynamics.py",
     "rcm_pin/report/casadi.py",
     "rcm_pin/report/closed_loops.py",
+    "rcm_pin/report/eye_linkage.py",
+    "rcm_pin/report/eye_mechanism.py",
     "rcm_pin/report/scenes.py",
     "ocp/paper000.py",
 )

@@ -65,9 +65,11 @@ def test_every_analysis_runs_on_arms_and_loops(capsys, tmp_path, name):
     q = "--q=" + ",".join(repr(float(v)) for v in inputs)
     code, out = _json(capsys, ["singularities", name, q])
     assert code == 0 and out["modes"] and out["modes"][0]["verdict"] == "regular"
-    grid = ["--n", "31"] if mech.loops is not None else []  # --n is refused for serial ones
-    code, out = _json(capsys, ["workspace", name, "--samples", "2000", *grid, "--plot",
-                               str(tmp_path / "w.png")])  # fmt: skip
+    uses = mech.family.workspace_options  # the others are refused (test_cli_errors)
+    opts = (["--samples", "2000"] if "samples" in uses else []) + (
+        ["--n", "31"] if "n" in uses else []
+    )
+    code, out = _json(capsys, ["workspace", name, *opts, "--plot", str(tmp_path / "w.png")])
     assert code == 0 and (tmp_path / "w.png").stat().st_size > 1000
     code, out = _json(capsys, ["accuracy", name])
     assert code == 0 and out["rows"] and np.isfinite(out["rows"][0]["nonlinear_output"])

@@ -175,7 +175,7 @@ def test_view_closed_html(capsys, tmp_path):
         (
             ["workspace", "planar_3rrr", "--phi-range", "1,0"],
             "InvalidInputError",
-            "phi range 1.0,0.0; valid: lo <= hi, finite [rad]",
+            "phi range 1,0; valid: finite lo <= hi within one turn (hi − lo <= 2π) [rad]",
         ),
         (
             ["simulate", "planar_3rrr", "--tau-zeta=-1,1"],

@@ -8,6 +8,7 @@ import json
 import pytest
 
 from rcm_pin.cli import main
+from rcm_pin.report.sections import SECTIONS
 
 Q = "0,0,0.08,0,0.3,0"
 
@@ -29,9 +30,8 @@ def run_json(capsys, *argv):
         (
             ["reproduce", "--only", "zzzz"],
             "InvalidInputError",
-            "--only 'zzzz' matches no report section; valid: a word of rcm_pin.report.position, "
-            "rcm_pin.report.velocity, rcm_pin.report.analysis, rcm_pin.report.dynamics, "
-            "rcm_pin.report.casadi (ocp), rcm_pin.report.closed_loops, rcm_pin.report.scenes",
+            "--only 'zzzz' matches no report section; valid: a word of "
+            + ", ".join(name for name, _ in SECTIONS),
         ),
         (
             ["urdf", "rcm_bevel", "-o", "/nonexistent-dir/x/y.urdf"],
@@ -44,6 +44,34 @@ def run_json(capsys, *argv):
             "InvalidInputError",
             "--png '/nonexistent-dir/x.png': folder '/nonexistent-dir' does not exist; valid: a "
             "path in an existing folder",
+        ),
+        (  # long fuzz profile: 1000² cells × 181 orientations took minutes
+            ["workspace", "planar_3rrr", "--n", "1000"],
+            "InvalidInputError",
+            "a 1000 x 1000 grid at 181 orientations is 1.81e+08 inverse problems; valid: at most "
+            "1e+07 (a smaller --n or a coarser phi step)",
+        ),
+        (  # long fuzz profile: 954 546 samples × 64 working modes ran over 30 s
+            ["workspace", "translational_3ppapa", "--samples", "954546"],
+            "InvalidInputError",
+            "954546 workspace samples, each solved in all 64 working modes; valid: 1..250000 "
+            "(about 15 s of work at the most)",
+        ),
+        (  # an option the family's workspace does not use is refused, not ignored
+            ["workspace", "translational_3ppapa", "--phi", "0.15"],
+            "InvalidInputError",
+            "--phi does not apply to the workspace of translational_3ppapa; valid: --samples",
+        ),
+        (
+            ["workspace", "four_bar", "--samples", "2000"],
+            "InvalidInputError",
+            "--samples does not apply to the workspace of four_bar; valid: no options",
+        ),
+        (  # long fuzz profile: np.arange over 1e147 rad raised a raw ValueError
+            ["workspace", "planar_3rrr", "--phi-range=1000001.0,4.4e147"],
+            "InvalidInputError",
+            "phi range 1e+06,4.4e+147; valid: finite lo <= hi within one turn (hi − lo <= 2π) "
+            "[rad]",
         ),
         (
             ["workspace", "rcm_bevel", "--phi", "0.1"],

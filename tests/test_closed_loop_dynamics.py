@@ -60,3 +60,35 @@ def test_switching_keeps_efforts_bounded_and_tracking(m5):
     assert sw.extras_on.any() and not sw.extras_on[-1]
     assert np.max(sw.error[late]) < 2e-6
     assert np.max(sat.error[sat.t > 0.3]) > 5 * np.max(sw.error[late])
+
+
+@pytest.mark.parametrize(
+    ("call", "message"),
+    [
+        (
+            lambda m, z: forward_dynamics(m, "abc", z, z),
+            "q 'abc' is not numeric; valid: real numbers",
+        ),
+        (
+            lambda m, z: forward_dynamics(m, np.zeros(m.model.nq), z, np.zeros(2)),
+            "tau_full has shape (2,); valid: (4,) for five_bar (4 values)",
+        ),
+        (
+            lambda m, z: inverse_dynamics(m, np.zeros(m.model.nq), z, np.full(4, np.nan)),
+            "a has NaN or infinite entries: [nan, nan, nan, nan]",
+        ),
+        (
+            lambda m, z: forward_dynamics(m, np.zeros(m.model.nq), np.full(4, 1e300), z),
+            "v has an entry of magnitude 1e+300; valid: |value| <= 1e+06 (larger values are "
+            "meaningless for a mechanism)",
+        ),
+    ],
+    ids=["string q", "short tau", "NaN acceleration", "huge v"],
+)
+def test_constrained_dynamics_inputs_are_checked(call, message):
+    from rcm_pin.errors import InvalidInputError
+
+    mech = rcm_pin.load("five_bar")
+    with pytest.raises(InvalidInputError) as exc:
+        call(mech, np.zeros(mech.model.nv))
+    assert str(exc.value) == message

@@ -37,9 +37,12 @@ LINKS = {
     "double_rocker": ((0.05, 0.04, 0.025, 0.045), True, False, 4, 4),  # coupler shortest
 }
 
+#: The xacro arguments of the four link lengths [m].
+LINK_ARGS = ("frame", "crank", "coupler", "rocker")
+
 
 def load(name="default"):
-    return rcm_pin.load("four_bar", **dict(zip(fb.POSITIVE_ARGS, LINKS[name][0], strict=True)))
+    return rcm_pin.load("four_bar", **dict(zip(LINK_ARGS, LINKS[name][0], strict=True)))
 
 
 @pytest.fixture(scope="module")
@@ -340,7 +343,7 @@ def test_typed_errors(m4):
     )
 
 
-@pytest.mark.parametrize("arg", fb.POSITIVE_ARGS)
+@pytest.mark.parametrize("arg", LINK_ARGS)
 @pytest.mark.parametrize("value", [0, -0.02])
 def test_error_non_positive_link_length(arg, value):
     what = {"frame": "l0 = |O1 O2|", "crank": "l1 = |O1 A| (driven)", "coupler": "l2 = |A B|"}

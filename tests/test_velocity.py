@@ -170,3 +170,15 @@ def test_bad_inputs():
     np.testing.assert_allclose(
         vel.inverse_velocity(mech, q, m.v, m.omega), [0.1, -0.2, 0.3, 0.4], atol=1e-12
     )
+
+
+@pytest.mark.filterwarnings("error")
+def test_inverse_velocity_of_a_huge_rate_is_refused_without_an_overflow_warning():
+    mech = rcm_pin.load("rcm_bevel")
+    q = np.array([0.1, 0.2, 0.08, 0.1, 0.2, 0.3])
+    with pytest.raises(InvalidInputError) as exc:
+        vel.inverse_velocity(mech, q, [1e300, 0.0, 0.0])
+    assert str(exc.value) == (
+        "v has an entry of magnitude 1e+300; valid: |value| <= 1e+06 (larger values are "
+        "meaningless for a mechanism)"
+    )

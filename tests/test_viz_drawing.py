@@ -98,11 +98,6 @@ def test_markers_where_the_camera_projects_them(scene):
         hits = [_near(_green(img), p, 2) > 0 for p in px[inside]]
         assert np.mean(hits) > 0.6, f"green rod along the axis at {np.mean(hits):.0%} of samples"
     else:
-        if mech.name == "spherical_3rrr":
-            pytest.skip(
-                "spherical_3rrr: its output and cut markers all sit at the centre O, where the "
-                "fallback drawing shows none yet (issue 12 follow-up, in the closing note)"
-            )
         out = ov.frame_point(mech.model, data, mech.output.frame_id)[:3, 3]  # green (on red)
         assert _near(_marker(img), viewer.project(out, SIZE)[0]) >= 5, "no output marker"
     for c in mech.loops.closures if mech.loops is not None else ():

@@ -55,3 +55,35 @@ def test_errors(mech):
     with pytest.raises(InvalidInputError) as exc:
         ws.volume_voxels(np.zeros((3, 3)), 0.0)
     assert str(exc.value) == "voxel edge 0.0; valid: > 0"
+
+
+def test_numeric_closed_loop_workspace_refuses_a_run_it_cannot_afford(monkeypatch):
+    """The cost guard times PROBE Newton samples and refuses before the rest are solved; when
+    the affordable count is below MIN_SAMPLES it says so instead of suggesting it."""
+    from rcm_pin.analysis import workspace as ws
+
+    mech = rcm_pin.load("four_bar")  # without its family's closed form: the Newton route
+    monkeypatch.setattr(type(mech.family), "workspace_summary", lambda *a, **k: None)
+    monkeypatch.setattr(ws, "MAX_SECONDS", 1e-9)
+    with pytest.raises(InvalidInputError) as exc:
+        ws.summary(mech, samples=2000)
+    text = str(exc.value)
+    assert text.startswith("four_bar: 2000 samples would take about ")
+    assert text.endswith(
+        "samples, fewer than the 1000 a volume estimate needs: this mechanism's workspace "
+        "needs a closed-form route"
+    )
+
+
+def test_numeric_closed_loop_workspace_reuses_its_probe_samples(monkeypatch):
+    """The PROBE samples timed by the guard are part of the result: the same cloud as one
+    uninterrupted run over the same inputs."""
+    from rcm_pin.analysis import workspace as ws
+
+    mech = rcm_pin.load("four_bar")  # without its family's closed form: the Newton route
+    monkeypatch.setattr(type(mech.family), "workspace_summary", lambda *a, **k: None)
+    s = ws.summary(mech, samples=1000, seed=3)
+    pts = ws.output_points(mech, ws.sample_joints(mech, 1000, 3))
+    ok = np.all(np.isfinite(pts), axis=1)
+    np.testing.assert_allclose(s["extent_min"], pts[ok].min(axis=0), rtol=0, atol=1e-12)
+    assert s["assembled_fraction"] == ok.mean()

@@ -23,7 +23,7 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from rcm_pin.errors import InvalidInputError
+from rcm_pin.errors import InvalidInputError, SingularConfigurationError
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.newton import solve_passive
 
@@ -128,4 +128,26 @@ def sensitivities(
     return {"mechanism": mech.name, "q": q, "rows": rows}
 
 
-__all__ = ["COMPONENTS", "placement_change", "sensitivities"]
+def cramer(a_mat: np.ndarray, rhs: np.ndarray, min_det: float = 1e-12) -> np.ndarray:
+    """x of A x = rhs by Cramer's rule, x_k = det A_k / det A (A_k: column k replaced by
+    rhs), the form in which paper 004 writes the linear theory of accuracy.
+
+    Raises:
+        SingularConfigurationError: |det A| < ``min_det`` (a type-2 singularity: the linear
+            theory has no denominator).
+    """
+    det = float(np.linalg.det(a_mat))
+    if not abs(det) >= min_det:
+        raise SingularConfigurationError(
+            f"Cramer's rule: det A = {det:.3e} (type-2 singularity: no denominator); valid: a "
+            f"configuration with |det A| >= {min_det:g}"
+        )
+    out = np.zeros(len(rhs))
+    for k in range(len(rhs)):
+        a_k = np.array(a_mat, dtype=float)
+        a_k[:, k] = rhs
+        out[k] = np.linalg.det(a_k) / det
+    return out
+
+
+__all__ = ["COMPONENTS", "cramer", "placement_change", "sensitivities"]

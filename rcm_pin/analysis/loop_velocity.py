@@ -128,9 +128,13 @@ def _measures(
         return (abs(float(b_scaled[0, 0])) / norm if norm > 0 else 0.0, abs(float(a_scaled[0, 0])))
     sa = np.linalg.svd(a_scaled, compute_uv=False)
     sb = np.linalg.svd(b_scaled, compute_uv=False)
+    # A matrix that vanishes (to rounding) next to what it is made of is singular: its
+    # σ_min/σ_max would be a ratio of rounding errors (e.g. B ≡ 0 where several legs are
+    # singular at once). B̃ is made of the drive columns, Ã of orthonormal rows (|Ã| ≤ 1).
+    scale_b = float(np.linalg.norm(drive_cols, 2))
     return (
-        float(sb[-1] / sb[0]) if sb[0] > 0 else 0.0,
-        float(sa[-1] / sa[0]) if sa[0] > 0 else 0.0,
+        float(sb[-1] / sb[0]) if sb[0] > SINGULAR_TOL * scale_b else 0.0,
+        float(sa[-1] / sa[0]) if sa[0] > SINGULAR_TOL else 0.0,
     )
 
 

@@ -21,7 +21,7 @@ from numpy.typing import ArrayLike
 from rcm_pin.analysis.jacobians import LWA, tool_jacobian
 from rcm_pin.errors import InvalidInputError, SingularConfigurationError
 from rcm_pin.model.mechanism import Mechanism
-from rcm_pin.rotations import FloatArray, as_finite, rot_y, rot_z
+from rcm_pin.rotations import FloatArray, as_finite, check_magnitude, rot_y, rot_z
 
 #: Relative residual above which an over-determined inverse problem (4-DOF with ω) is
 #: declared not realisable.
@@ -48,7 +48,8 @@ class ToolMotion:
 
 
 def _vec(x: ArrayLike, n: int, name: str) -> FloatArray:
-    return as_finite(x, name, (n,))
+    """A checked (n,) vector: numeric, finite and within ``MAX_ABS`` (no overflow later)."""
+    return check_magnitude(as_finite(x, name, (n,)), name)
 
 
 def forward(

@@ -28,7 +28,11 @@ MAX_SAMPLES = 5_000_000
 #: is a Newton solve of the loops (about 0.3 ms), so this bounds a run to tens of seconds.
 MAX_NEWTON_SAMPLES = 50_000
 #: Longest projected run of the numeric closed-loop route [s].
-MAX_SECONDS = 120.0
+MAX_SECONDS = 30.0
+#: Fewest samples of a volume estimate (the CLI's lower bound for ``--samples``).
+MIN_SAMPLES = 1000
+#: Newton samples timed before a numeric closed-loop run is committed to.
+PROBE = 5
 #: Largest grid side of a family's workspace grid (n × n cells, several per orientation).
 MAX_GRID = 1001
 
@@ -110,17 +114,24 @@ def summary(
             f"{MAX_NEWTON_SAMPLES} (the family has no closed-form workspace)"
         )
     inputs = sample_joints(mech, samples, seed)
+    probe = np.empty((0, 3))
     if mech.loops is not None:  # measure the cost of a Newton sample before committing
         start = time.perf_counter()
-        output_points(mech, inputs[:5])
-        projected = (time.perf_counter() - start) / 5 * samples
+        probe = output_points(mech, inputs[:PROBE])
+        projected = (time.perf_counter() - start) / len(probe) * samples
         if projected > MAX_SECONDS:
+            affordable = int(samples * MAX_SECONDS / projected)
+            hint = (
+                f"about {affordable} samples"
+                if affordable >= MIN_SAMPLES
+                else f"about {affordable} samples, fewer than the {MIN_SAMPLES} a volume "
+                "estimate needs: this mechanism's workspace needs a closed-form route"
+            )
             raise InvalidInputError(
                 f"{mech.name}: {samples} samples would take about {projected:.0f} s (a Newton "
-                f"solve each); valid: at most {MAX_SECONDS:.0f} s of work, i.e. about "
-                f"{int(samples * MAX_SECONDS / projected)} samples"
+                f"solve each); valid: at most {MAX_SECONDS:.0f} s of work, i.e. {hint}"
             )
-    pts = output_points(mech, inputs)
+    pts = np.vstack([probe, output_points(mech, inputs[len(probe) :])])
     ok = np.all(np.isfinite(pts), axis=1)
     if not ok.any():
         raise InvalidInputError(f"{mech.name}: no sample assembled; the workspace is empty")

@@ -108,12 +108,6 @@ def _load_entry(
                 f"({key}={entry.fixed_args[key]}); load {entry.xacro} variants by path instead"
             )
     args = validate_args(entry.xacro_path, {**entry.fixed_args, **xacro_args})
-    for key in entry.positive_args:
-        if key in args and float(args[key]) <= 0.0:
-            raise XacroArgumentError(
-                f"xacro argument {key}={args[key]} must be > 0 for {entry.name}; "
-                "valid: a positive number"
-            )
     urdf = render_xacro(entry.xacro_path, args)
 
     def rebuild(**more: Any) -> Mechanism:
@@ -162,7 +156,10 @@ def _load_path(
                 f"xacro arguments {', '.join(sorted(xacro_args))} given for plain URDF {path}"
             )
         urdf, args = _read(path), {}
-    desc = read_description(urdf)
+    try:
+        desc = read_description(urdf)
+    except InvalidInputError as exc:
+        raise InvalidInputError(f"{path}: {exc}") from None
     sidecar = path.with_suffix(".yaml")
     if desc.loops is None and sidecar.is_file():
         side = description_from_yaml(_read(sidecar))

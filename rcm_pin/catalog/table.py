@@ -2,7 +2,8 @@
 
 A :class:`CatalogEntry` names a family (:mod:`rcm_pin.mechanisms`), a source (a xacro
 file of the package data, or a URDF of an installed robot-description package), the
-xacro arguments that define the variant and those that must be positive. Everything else
+xacro arguments that define the variant (every argument's valid range is declared in its
+xacro and checked by :mod:`rcm_pin.model.xacro_ranges`). Everything else
 (tool and RCM frames, the papers' coordinates, loop closures) comes from the rendered
 URDF's ``<rcm_pin>`` element, so a catalogue entry and its committed rendering
 ``urdf/<name>.urdf`` loaded by path give the same mechanism.
@@ -17,6 +18,7 @@ from pathlib import Path
 from rcm_pin.errors import UnknownMechanismError
 from rcm_pin.mechanisms import (
     arms,
+    eye_4dof,
     five_bar,
     four_bar,
     planar_3rrr,
@@ -38,7 +40,6 @@ class CatalogEntry:
         xacro: xacro file name in the package's ``xacro/`` (empty for a URDF source).
         description: one line for listings.
         fixed_args: xacro arguments that define this variant.
-        positive_args: xacro arguments that must be > 0 (lengths, masses, ratios).
         urdf: for URDF sources, returns the file's path (e.g. example-robot-data).
         tool_frame: tool frame of a URDF source (xacro sources name it in the URDF).
     """
@@ -48,7 +49,6 @@ class CatalogEntry:
     xacro: str
     description: str
     fixed_args: Mapping[str, str] = field(default_factory=dict)
-    positive_args: tuple[str, ...] = ()
     urdf: Callable[[], Path] | None = None
     tool_frame: str = ""
 
@@ -75,7 +75,6 @@ ENTRIES: tuple[CatalogEntry, ...] = (
         rcm.FAMILY,
         "rcm_bevel.urdf.xacro",
         "RCM mechanism, two bevel-gear trains, 6 DOF (papers 000/003)",
-        positive_args=rcm.POSITIVE_ARGS,
     ),
     CatalogEntry(
         "rcm_bevel_4dof",
@@ -83,56 +82,54 @@ ENTRIES: tuple[CatalogEntry, ...] = (
         "rcm_bevel.urdf.xacro",
         "RCM mechanism, bevel gears, no wrist pairs 26/27, 4 DOF (paper 000)",
         fixed_args={"wrist": "false", "robot_name": "rcm_bevel_4dof"},
-        positive_args=rcm.POSITIVE_ARGS,
     ),
     CatalogEntry(
         "rcm_belt",
         rcm.FAMILY,
         "rcm_belt.urdf.xacro",
         "RCM mechanism, two belt drives, 6 DOF (the built rig, papers 000/003)",
-        positive_args=rcm.POSITIVE_ARGS,
     ),
     CatalogEntry(
         "rcm_two_mass",
         rcm.FAMILY,
         "rcm_two_mass.urdf.xacro",
         "two-mass dynamic model of paper 000 (Fig. 3), 3 DOF q1..q3",
-        positive_args=("m", "L"),
     ),
     CatalogEntry(
         "planar_3rrr",
         planar_3rrr.FAMILY,
         "planar_3rrr.urdf.xacro",
         "planar 3-RRR parallel mechanism, base pairs driven, 3 DOF (paper 004)",
-        positive_args=planar_3rrr.POSITIVE_ARGS,
     ),
     CatalogEntry(
         "five_bar",
         five_bar.FAMILY,
         "five_bar.urdf.xacro",
         "planar five-bar RR-RR, 2 DOF, main + 2 extra drives (paper 004 Fig. 13)",
-        positive_args=five_bar.POSITIVE_ARGS,
     ),
     CatalogEntry(
         "four_bar",
         four_bar.FAMILY,
         "four_bar.urdf.xacro",
         "planar four-bar crank-rocker, crank driven, 1 DOF (paper 002 pitch drive)",
-        positive_args=four_bar.POSITIVE_ARGS,
+    ),
+    CatalogEntry(
+        "eye_4dof",
+        eye_4dof.FAMILY,
+        "eye_4dof.urdf.xacro",
+        "spatial eye linkage: pitch four-bar, yaw yoke, Assur group, lid, roll, 4 DOF (paper 002)",
     ),
     CatalogEntry(
         "spherical_3rrr",
         spherical_3rrr.FAMILY,
         "spherical_3rrr.urdf.xacro",
         "spherical 3-RRR, base pairs driven, orthogonal Agile Eye by default, 3 DOF (paper 004)",
-        positive_args=spherical_3rrr.POSITIVE_ARGS,
     ),
     CatalogEntry(
         "translational_3ppapa",
         translational_3ppapa.FAMILY,
         "translational_3ppapa.urdf.xacro",
         "translational 3-PPaPa, parallelograms as crank + mimic, 3 DOF (paper 004 Fig. 4)",
-        positive_args=translational_3ppapa.POSITIVE_ARGS,
     ),
     CatalogEntry(
         "translational_3ppapa_loops",
@@ -140,7 +137,6 @@ ENTRIES: tuple[CatalogEntry, ...] = (
         "translational_3ppapa.urdf.xacro",
         "translational 3-PPaPa, parallelograms as 4R loops (over-constrained), 3 DOF (paper 004)",
         fixed_args={"model": "loops", "robot_name": "translational_3ppapa_loops"},
-        positive_args=translational_3ppapa.POSITIVE_ARGS,
     ),
     CatalogEntry(
         "panda",

@@ -17,13 +17,30 @@ import argparse
 import json
 import re
 import sys
+import types
 from collections.abc import Sequence
 
-from rcm_pin.cli import analysis, catalog, ocp, position, reproduce, simulate, view
+from rcm_pin.cli import (
+    analysis,
+    catalog,
+    design,
+    fourbar,
+    ocp,
+    position,
+    rcm_track,
+    reproduce,
+    simulate,
+    vibrations,
+    view,
+)
 from rcm_pin.errors import RcmPinError, SolverError
 
 #: Modules that contribute subcommands, in help order.
-COMMAND_MODULES = (catalog, position, reproduce, analysis, simulate, ocp, view)
+Modules = tuple[types.ModuleType, ...]
+COMMAND_MODULES: Modules = (catalog, position, reproduce, analysis, simulate, ocp, view, design)
+COMMAND_MODULES += (fourbar,)
+COMMAND_MODULES += (rcm_track,)
+COMMAND_MODULES += (vibrations,)
 
 
 #: Exit status of bad input (typed errors and argparse usage errors).

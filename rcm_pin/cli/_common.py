@@ -13,10 +13,10 @@ from typing import Any
 import numpy as np
 
 from rcm_pin.catalog import load
-from rcm_pin.errors import InvalidInputError, XacroArgumentError
+from rcm_pin.errors import InvalidInputError, NotARotationError, XacroArgumentError
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import POSE
-from rcm_pin.rotations import MAX_ABS, rpy_to_matrix
+from rcm_pin.rotations import MAX_ABS, ROTATION_TOL, project_to_rotation, rpy_to_matrix
 
 
 def parse_vector(text: str, name: str, length: int | None = None) -> np.ndarray:
@@ -58,55 +58,113 @@ def parse_xacro_args(pairs: Sequence[str] | None) -> dict[str, str]:
     return out
 
 
-def target_from_args(
-    mech: Mechanism, args: argparse.Namespace
-) -> tuple[np.ndarray, tuple[str, ...]]:
-    """(target value, output coordinates solved for) from ``--pose`` / ``--xyz`` / ``--rpy``.
-
-    ``--pose`` is a 3×4 tool pose ``"r11,r12,r13,x;...;r31,r32,r33,z"`` for a serial
-    mechanism, or the output coordinates of a closed one; ``--xyz`` (with ``--rpy`` for the
-    orientation, R = Rz(γ)Ry(β)Rx(α)) a tool position.
-
-    Raises:
-        InvalidInputError: a missing, malformed or conflicting target.
-    """
-    pose, xyz, rpy = (getattr(args, k, None) for k in ("pose", "xyz", "rpy"))
-    tool_pose = mech.output.coords == POSE
-    if pose and (xyz or rpy):
-        raise InvalidInputError("--pose conflicts with --xyz / --rpy; valid: one of them")
-    if pose:
-        if ";" not in pose:
-            if tool_pose:
-                raise InvalidInputError(
-                    f"--pose for {mech.name} is a 3x4 tool pose 'r11,r12,r13,x;...;r31,r32,r33,z'"
-                )
-            return parse_vector(pose, "pose", mech.output.size), mech.output.coords
-        M = parse_matrix(pose, "pose")
-        if not tool_pose or M.shape not in {(3, 4), (4, 4)}:
-            raise InvalidInputError(
-                f"--pose has shape {M.shape}; valid: 3 rows of 4 numbers for a tool pose"
-                if tool_pose
-                else f"{mech.name} takes --pose with its output coordinates "
-                f"{','.join(mech.output.coords)} (comma-separated)"
-            )
-        return np.r_[M[:3, 3], M[:3, :3].reshape(9)], POSE
-    if not xyz or not tool_pose:
-        raise InvalidInputError(
-            "ik needs --pose, or --xyz (with --rpy for the orientation)"
-            if tool_pose
-            else f"closed mechanisms take --pose {','.join(mech.output.coords)}; "
-            f"{mech.name} has no tool pose for --xyz/--rpy"
-        )
-    p = parse_vector(xyz, "xyz", 3)
-    if not rpy:
-        return p, ("x", "y", "z")
-    angles = parse_vector(rpy, "rpy", 3)
+def _angles(text: str) -> np.ndarray:
+    """R = Rz(γ)Ry(β)Rx(α) of ``--rpy α,β,γ`` [rad]."""
+    angles = parse_vector(text, "rpy", 3)
     if np.max(np.abs(angles)) > MAX_ABS:
         raise InvalidInputError(
             f"--rpy has an angle of magnitude {np.max(np.abs(angles)):.3g} rad; valid: "
             f"|angle| <= {MAX_ABS:g} rad (larger angles are meaningless)"
         )
-    return np.r_[p, rpy_to_matrix(*angles).reshape(9)], POSE
+    return rpy_to_matrix(*angles)
+
+
+def _rotation(text: str) -> np.ndarray:
+    """The 3×3 matrix of ``--rotation r11,...,r33`` (row by row), as given (the solvers
+    project it onto SO(3); ``ik`` reports the distance).
+
+    Raises:
+        NotARotationError: farther than :data:`rcm_pin.rotations.ROTATION_TOL` from SO(3).
+    """
+    m = parse_vector(text, "rotation", 9).reshape(3, 3)
+    try:
+        project_to_rotation(m, ROTATION_TOL)
+        return m
+    except NotARotationError as exc:
+        raise NotARotationError(
+            f"--rotation: {exc}; valid: an orthonormal matrix with determinant +1, "
+            "r11,r12,r13,r21,...,r33 row by row"
+        ) from None
+
+
+def _orientation(args: argparse.Namespace) -> np.ndarray | None:
+    """R from ``--rpy`` or ``--rotation`` (None: neither given)."""
+    rpy, rotation = getattr(args, "rpy", None), getattr(args, "rotation", None)
+    if rpy and rotation:
+        raise InvalidInputError("--rpy conflicts with --rotation; valid: one of them")
+    if rpy:
+        return _angles(rpy)
+    return _rotation(rotation) if rotation else None
+
+
+def target_from_args(
+    mech: Mechanism, args: argparse.Namespace
+) -> tuple[np.ndarray, tuple[str, ...]]:
+    """(target value, output coordinates solved for) from ``--pose`` / ``--xyz`` / ``--rpy``
+    / ``--rotation``.
+
+    ``--pose`` is a 3×4 tool pose ``"r11,r12,r13,x;...;r31,r32,r33,z"`` for a serial
+    mechanism, or the output coordinates of a closed one; ``--xyz`` (with ``--rpy`` or
+    ``--rotation`` for the orientation) a tool position. A mechanism whose output is a
+    rotation alone takes ``--rpy α,β,γ`` (R = Rz(γ)Ry(β)Rx(α)) or ``--rotation r11,...,r33``.
+
+    Raises:
+        InvalidInputError: a missing, malformed or conflicting target, or an option that
+            does not apply to the mechanism's output.
+        NotARotationError: ``--rotation`` too far from SO(3).
+    """
+    pose, xyz, rpy, rotation = (getattr(args, k, None) for k in ("pose", "xyz", "rpy", "rotation"))
+    coords = mech.output.coords
+    tool_pose, rotation_output = coords == POSE, coords == ("rotation",)
+    if pose and (xyz or rpy):
+        raise InvalidInputError("--pose conflicts with --xyz / --rpy; valid: one of them")
+    if pose and rotation:
+        raise InvalidInputError("--pose conflicts with --rotation; valid: one of them")
+    if pose:
+        return _pose(mech, pose, tool_pose)
+    if rotation_output and not xyz:
+        R = _orientation(args)
+        if R is None:
+            raise InvalidInputError(
+                f"ik of {mech.name} needs its output rotation; valid: --rpy alpha,beta,gamma, "
+                "--rotation r11,...,r33 or --pose r11,...,r33"
+            )
+        return R.reshape(9), coords
+    if rotation_output:
+        raise InvalidInputError(
+            f"--xyz does not apply to {mech.name}: its output is the rotation of frame "
+            f"{mech.output.frame}; valid: --rpy alpha,beta,gamma, --rotation r11,...,r33 or "
+            "--pose r11,...,r33"
+        )
+    if not xyz or not tool_pose:
+        raise InvalidInputError(
+            "ik needs --pose, or --xyz (with --rpy or --rotation for the orientation)"
+            if tool_pose
+            else f"closed mechanisms take --pose {','.join(coords)}; {mech.name} has no tool "
+            "pose for --xyz and no rotation output for --rpy / --rotation"
+        )
+    p = parse_vector(xyz, "xyz", 3)
+    R = _orientation(args)
+    return (p, ("x", "y", "z")) if R is None else (np.r_[p, R.reshape(9)], POSE)
+
+
+def _pose(mech: Mechanism, pose: str, tool_pose: bool) -> tuple[np.ndarray, tuple[str, ...]]:
+    """The target of ``--pose`` (:func:`target_from_args`)."""
+    if ";" not in pose:
+        if tool_pose:
+            raise InvalidInputError(
+                f"--pose for {mech.name} is a 3x4 tool pose 'r11,r12,r13,x;...;r31,r32,r33,z'"
+            )
+        return parse_vector(pose, "pose", mech.output.size), mech.output.coords
+    M = parse_matrix(pose, "pose")
+    if not tool_pose or M.shape not in {(3, 4), (4, 4)}:
+        raise InvalidInputError(
+            f"--pose has shape {M.shape}; valid: 3 rows of 4 numbers for a tool pose"
+            if tool_pose
+            else f"{mech.name} takes --pose with its output coordinates "
+            f"{','.join(mech.output.coords)} (comma-separated)"
+        )
+    return np.r_[M[:3, 3], M[:3, :3].reshape(9)], POSE
 
 
 def output_path(path: Path, option: str, directory: bool = False) -> Path:

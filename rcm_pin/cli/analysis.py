@@ -212,11 +212,21 @@ def cmd_workspace(args: argparse.Namespace) -> int:
         output_path(args.plot, "--plot")
     mech = load_mechanism(args)
     supported(mech, args, closed=("--phi", "--phi-range", "--n"))
+    uses = mech.family.workspace_options
+    for key in ("samples", "n", "phi", "phi_range"):
+        if getattr(args, key) is not None and key not in uses:
+            valid = ", ".join("--" + o.replace("_", "-") for o in uses) or "no options"
+            raise InvalidInputError(
+                f"--{key.replace('_', '-')} does not apply to the workspace of {mech.name}; "
+                f"valid: {valid}"
+            )
     phi = 0.0 if args.phi is None else args.phi
     if not np.isfinite(phi):
         raise InvalidInputError(f"--phi {phi}; valid: a finite angle [rad]")
-    if args.samples is not None and not 1000 <= args.samples <= ws.MAX_SAMPLES:
-        raise InvalidInputError(f"--samples {args.samples}; valid: 1000..{ws.MAX_SAMPLES}")
+    if args.samples is not None and not ws.MIN_SAMPLES <= args.samples <= ws.MAX_SAMPLES:
+        raise InvalidInputError(
+            f"--samples {args.samples}; valid: {ws.MIN_SAMPLES}..{ws.MAX_SAMPLES}"
+        )
     options: dict[str, Any] = {"phi": phi, "n": 121 if args.n is None else args.n}
     if args.phi_range:
         lo, hi = parse_vector(args.phi_range, "phi-range", 2)

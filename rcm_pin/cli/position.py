@@ -3,13 +3,16 @@
 ``fk`` takes the mechanism's inputs (``--q``: the coordinates of a serial mechanism, the
 drive values of a closed one) and prints every assembly mode with ``--all``; ``ik`` takes an
 output target (``--pose``: a 3×4 tool pose ``"r11,r12,r13,x;..."`` or the output coordinates
-of a closed mechanism; ``--xyz`` with or without ``--rpy`` for a tool frame) and prints every
-branch / working mode. JSON schema in ``docs/cli.md``.
+of a closed mechanism; ``--xyz`` with or without ``--rpy`` / ``--rotation`` for a tool frame;
+``--rpy`` or ``--rotation`` alone for an output that is a rotation) and prints every
+branch / working mode. A solution whose output has a rotation also carries it as
+``rotation`` (3×3). JSON schema in ``docs/cli.md``.
 """
 
 from __future__ import annotations
 
 import argparse
+from typing import Any
 
 import numpy as np
 
@@ -45,7 +48,16 @@ def register(sub: argparse._SubParsersAction) -> None:
         "coordinates of a closed mechanism (e.g. x,y,phi)",
     )
     p.add_argument("--xyz", help="tool-frame position x,y,z [m]")
-    p.add_argument("--rpy", help="alpha,beta,gamma [rad], R = Rz(gamma)Ry(beta)Rx(alpha)")
+    p.add_argument(
+        "--rpy",
+        help="alpha,beta,gamma [rad], R = Rz(gamma)Ry(beta)Rx(alpha): the tool orientation "
+        "(with --xyz), or the target of a mechanism whose output is a rotation",
+    )
+    p.add_argument(
+        "--rotation",
+        help="r11,r12,...,r33 (row by row): a rotation matrix, as --rpy (orthonormal within "
+        "1e-2, then projected onto SO(3))",
+    )
     p.add_argument("--within-limits", action="store_true", help="only solutions inside limits")
     p.set_defaults(func=cmd_ik)
 
@@ -61,6 +73,8 @@ def result_text(result: PositionResult) -> str:
         scalars = {k: v for k, v in out.items() if k not in ("rotation", "angles")}
         where = "in " if sol.within_limits else "out"
         values = fmt(np.array(list(scalars.values())))
+        if "angles" in out and not scalars:  # a rotation output: the papers' α, β, γ
+            values = f"alpha,beta,gamma {fmt(np.array(out['angles']))}"
         lines.append(
             f"{where} {sol.mode}: q = {fmt(sol.q, 6)}  output {values}"
             + (f"  residual {sol.residual:.1e}" if mech.loops is not None else "")
@@ -80,7 +94,7 @@ def cmd_fk(args: argparse.Namespace) -> int:
             f"--all lists the assembly modes of closed mechanisms; {mech.name} is serial"
         )
     result = forward(mech, parse_vector(args.q, "q", n), all_modes=args.all)
-    emit(args, result.to_json(), result_text(result))
+    emit(args, with_rotations(result.to_json()), result_text(result))
     return 0
 
 
@@ -89,11 +103,20 @@ def cmd_ik(args: argparse.Namespace) -> int:
     mech = load_mechanism(args)
     value, coords = target_from_args(mech, args)
     result = inverse(mech, value, coords, limits=args.within_limits)
-    payload = result.to_json()
+    payload = with_rotations(result.to_json())
     payload["position_only"] = coords == ("x", "y", "z")
-    if coords == POSE:  # distance of the given R from SO(3) (it was projected)
+    if "rotation" in coords:  # distance of the given R from SO(3) (it was projected)
+        k = 3 if coords == POSE else 0
         payload["rotation_projection_distance"] = float(
-            project_to_rotation(value[3:12].reshape(3, 3))[1]
+            project_to_rotation(value[k : k + 9].reshape(3, 3))[1]
         )
     emit(args, payload, result_text(result))
     return 0
+
+
+def with_rotations(payload: dict[str, Any]) -> dict[str, Any]:
+    """Each solution's output rotation (3×3) also as its ``rotation`` key (when it has one)."""
+    for sol in payload["solutions"]:
+        if "rotation" in sol["output"]:
+            sol["rotation"] = sol["output"]["rotation"]
+    return payload

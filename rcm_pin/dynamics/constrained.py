@@ -22,6 +22,7 @@ drive set, where |τ| grows as 1/distance.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 import numpy as np
@@ -32,10 +33,32 @@ from rcm_pin.model.constraints import constraint_models
 from rcm_pin.model.loops import LWA
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import Output
+from rcm_pin.rotations import MAX_ABS
+
+
+def _vector(mech: Mechanism, x: object, name: str, n: int) -> np.ndarray:
+    """``x`` as a checked float vector (n,): a float64 array of that shape with finite
+    entries below :data:`rcm_pin.rotations.MAX_ABS` passes through without a copy (one
+    ``math.hypot``, the hot path of the simulations); anything else goes through
+    :meth:`Mechanism.check_q`, which raises the typed error (wrong length, NaN, strings)."""
+    exact = isinstance(x, np.ndarray) and x.shape == (n,) and x.dtype == np.float64
+    if exact and type(x) is np.ndarray and math.hypot(*x) <= MAX_ABS:
+        return x
+    return mech.check_q(x, name, n)
+
+
+def _state(mech: Mechanism, q: object, v: object) -> tuple[np.ndarray, np.ndarray]:
+    """Checked (q (nq,), v (nv,)) in Pinocchio's order."""
+    return _vector(mech, q, "q", mech.model.nq), _vector(mech, v, "v", mech.model.nv)
 
 
 def world_closure(mech: Mechanism, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, ...]:
-    """World closure residual c (m,), Jacobian J_c (m, nv), drift γ = J̇_c v (m,)."""
+    """World closure residual c (m,), Jacobian J_c (m, nv), drift γ = J̇_c v (m,).
+
+    Raises:
+        InvalidInputError: q or v of the wrong length, not numeric, NaN or too large.
+    """
+    q, v = _state(mech, q, v)
     model, data = mech.model, mech.data
     pin.forwardKinematics(model, data, q, v, np.zeros(model.nv))
     pin.computeJointJacobians(model, data, q)
@@ -64,6 +87,7 @@ def output_drift(
     mech: Mechanism, q: np.ndarray, v: np.ndarray, output: Output | None = None
 ) -> tuple[np.ndarray, ...]:
     """Output rate ẋ = J_x v, Jacobian J_x (k, nv) and drift J̇_x v (k,) of the output frame."""
+    q, v = _state(mech, q, v)
     model, data = mech.model, mech.data
     out = mech.output if output is None else output
     pin.forwardKinematics(model, data, q, v, np.zeros(model.nv))
@@ -88,7 +112,13 @@ def forward_dynamics(
 
     Returns:
         (q̈ (nv,) [rad/s²], closure forces λ (m,) [N]).
+
+    Raises:
+        InvalidInputError: q, v or tau_full of the wrong length, not numeric, NaN or too
+            large.
     """
+    q, v = _state(mech, q, v)
+    tau_full = _vector(mech, tau_full, "tau_full", mech.model.nv)
     c, jc, gam = world_closure(mech, q, v)
     m_mat = mass_matrix_pin(mech.model, mech.data, q)
     b = pin.nonLinearEffects(mech.model, mech.data, q, v)
@@ -109,6 +139,8 @@ def pin_constraint_dynamics(
     Planar 3-D contacts are rank deficient (zero out-of-plane rows); the proximal solver
     handles that. Baumgarte terms are zero, so compare on closed configurations.
     """
+    q, v = _state(mech, q, v)
+    tau_full = _vector(mech, tau_full, "tau_full", mech.model.nv)
     model = mech.model
     data = model.createData()
     cms = pin.StdVec_RigidConstraintModel()
@@ -142,6 +174,8 @@ def inverse_dynamics(
     Returns:
         (τ (k,) [N·m], λ (m,) [N]); τ → ∞ at the type-2 singularities of that drive set.
     """
+    q, v = _state(mech, q, v)
+    a = _vector(mech, a, "a", mech.model.nv)
     idx = drive_columns(mech, actuated)
     _, jc, _ = world_closure(mech, q, v)
     rhs = pin.rnea(mech.model, mech.data, q, v, a)
@@ -162,6 +196,8 @@ def acceleration_for_output(
     output: Output | None = None,
 ) -> np.ndarray:
     """Joint acceleration q̈ (nv,) that closes the loops and gives output acceleration ẍ_d."""
+    q, v = _state(mech, q, v)
+    xdd = _vector(mech, xdd, "xdd", len((mech.output if output is None else output).rows))
     c, jc, gam = world_closure(mech, q, v)
     _, jx, drift = output_drift(mech, q, v, output)
     w, z = baumgarte
@@ -173,6 +209,8 @@ def velocity_for_output(
     mech: Mechanism, q: np.ndarray, xd: np.ndarray, output: Output | None = None
 ) -> np.ndarray:
     """Joint rates q̇ (nv,) with J_c q̇ = 0 and J_x q̇ = ẋ (regular across type 2)."""
+    q = _vector(mech, q, "q", mech.model.nq)
+    xd = _vector(mech, xd, "xd", len((mech.output if output is None else output).rows))
     _, jc, _ = world_closure(mech, q, np.zeros(mech.model.nv))
     _, jx, _ = output_drift(mech, q, np.zeros(mech.model.nv), output)
     return np.linalg.solve(np.vstack([jc, jx]), np.concatenate([np.zeros(len(jc)), xd]))

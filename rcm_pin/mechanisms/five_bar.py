@@ -139,8 +139,6 @@ def direct_position(g: GeometryFiveBar, q: np.ndarray) -> np.ndarray:
 
 
 # ============================================================================ the family
-#: xacro arguments that must be positive lengths [m].
-POSITIVE_ARGS = ("base_distance", "proximal_1", "proximal_2", "distal_1", "distal_2")
 #: Working-mode labels (elbow signs σ_1 σ_2) in index order w = 2 s_1 + s_2.
 MODES = ("++", "+-", "-+", "--")
 #: Paper 004's crossing of the main drives' type-2 curve (Figs. 13–14) [m, s].
@@ -165,6 +163,7 @@ class FiveBarFamily(Family):
     name = "five_bar"
     description = "planar five-bar RR-RR with extra drives (paper 004 Fig. 13)"
     closed = True
+    workspace_options = ("n",)
 
     def inverse_position(
         self, mech: Mechanism, target: np.ndarray, output: Output

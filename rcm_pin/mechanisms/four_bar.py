@@ -37,8 +37,6 @@ from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import Output
 from rcm_pin.rotations import wrap_angle
 
-#: xacro arguments that must be positive lengths [m].
-POSITIVE_ARGS = ("frame", "crank", "coupler", "rocker")
 #: Working-mode labels of the inverse problem.
 MODES = ("+", "-")
 
@@ -158,6 +156,7 @@ class FourBarFamily(Family):
     name = "four_bar"
     description = "planar four-bar linkages (paper 002)"
     closed = True
+    workspace_options: tuple[str, ...] = ()
 
     def inverse_position(
         self, mech: Mechanism, target: np.ndarray, output: Output
@@ -200,6 +199,40 @@ class FourBarFamily(Family):
         a_mat, b_mat = ab_matrices(g, float(q[loops.drive_q[0]]), psi)
         return a_mat / (2.0 * g.l2 * g.l3), b_mat / (2.0 * g.l1 * g.l2)
 
+    def design_metrics(self) -> dict[str, Any]:
+        """Swing, worst transmission angle and time ratio over a crank turn (NaN unless a
+        crank–rocker), by :func:`rcm_pin.linkage.fourbar.performance`."""
+        from rcm_pin.linkage.fourbar import FourBar, performance
+        from rcm_pin.model.metric import DesignMetric
+
+        def perf(mech: Mechanism) -> Any:
+            g = geometry(mech)
+            return performance(FourBar(g.l0, g.l1, g.l2, g.l3))
+
+        def swing(mech: Mechanism) -> float:
+            r = perf(mech).rocker_range
+            return float(np.rad2deg(r[1] - r[0])) if r else float("nan")
+
+        def worst_mu(mech: Mechanism) -> float:
+            p = perf(mech)
+            lo, hi = p.transmission_angle
+            return float(np.rad2deg(min(lo, np.pi - hi))) if p.crank_rocker else float("nan")
+
+        def ratio(mech: Mechanism) -> float:
+            r = perf(mech).time_ratio
+            return float("nan") if r is None else float(r)
+
+        return {
+            m.name: m
+            for m in (
+                DesignMetric("swing", "deg", "max", "rocker swing ψ_max − ψ_min", swing),
+                DesignMetric(
+                    "worst_transmission", "deg", "max", "min(μ_min, 180° − μ_max)", worst_mu
+                ),
+                DesignMetric("time_ratio", "-", "min", "slower / faster stroke", ratio),
+            )
+        }
+
     def workspace_summary(self, mech: Mechanism, **options: Any) -> dict[str, Any]:
         """The rocker's range and swing, the Grashof class, the transmission-angle range."""
         g = geometry(mech)
@@ -221,7 +254,6 @@ FAMILY = FourBarFamily()
 __all__ = [
     "FAMILY",
     "MODES",
-    "POSITIVE_ARGS",
     "FourBarFamily",
     "GeometryFourBar",
     "ab_matrices",

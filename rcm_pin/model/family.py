@@ -21,6 +21,7 @@ import numpy as np
 
 if TYPE_CHECKING:
     from rcm_pin.model.mechanism import Mechanism
+    from rcm_pin.model.metric import DesignMetric
     from rcm_pin.model.output import Output
 
 
@@ -87,6 +88,9 @@ class Family:
     description = "any URDF: numeric routes only"
     #: Whether the family's mechanisms have loop closures.
     closed = False
+    #: Options of ``rcm-pin workspace`` its workspace uses (``samples``, ``n``, ``phi``,
+    #: ``phi_range``); the others are refused, never ignored. The numeric route samples.
+    workspace_options: tuple[str, ...] = ("samples",)
 
     # ---------------------------------------------------------------- position
     def inverse_position(
@@ -144,6 +148,11 @@ class Family:
     def accuracy_report(self, mech: Mechanism, q: np.ndarray) -> dict[str, Any] | None:
         """The family's own accuracy table (None: the generic placement sensitivities)."""
         return None
+
+    # ---------------------------------------------------------------- design
+    def design_metrics(self) -> dict[str, DesignMetric]:
+        """Figures of merit of a whole design, by name (:mod:`rcm_pin.design` sweeps them)."""
+        return {}
 
     # ---------------------------------------------------------------- control
     def task_kinematics(self, mech: Mechanism, task: Output) -> TaskKinematics | None:

@@ -2,10 +2,12 @@
 
 from __future__ import annotations
 
-import time
 from pathlib import Path
 
+from tqdm import tqdm
+
 from rcm_pin.errors import InvalidInputError
+from rcm_pin.report.runner import Outcome, run_sections
 from rcm_pin.report.sections import SECTIONS
 
 #: The papers the report reproduces, cited by reference (all in Russian).
@@ -26,38 +28,48 @@ SOURCES = (
 )
 
 
-def write_report(out_dir: Path, only: list[str] | None = None, quiet: bool = False) -> Path:
+def write_report(
+    out_dir: Path,
+    only: list[str] | None = None,
+    quiet: bool = False,
+    jobs: int | None = None,
+    cache: bool = True,
+) -> Path:
     """Run every section and write ``out_dir/report.md``.
 
     Args:
         out_dir: output directory (created).
         only: run only sections whose module path contains one of these words.
-        quiet: no progress lines on stdout.
+        quiet: no progress bar.
+        jobs: parallel processes (default: the number of cores; 1: in this process).
+        cache: reuse a section whose inputs are unchanged (:mod:`rcm_pin.report.runner`).
 
     Returns:
         The report path.
     """
-    chosen = [(entry, fn) for entry, fn in SECTIONS if not only or any(w in entry for w in only)]
+    chosen = [(entry, m) for entry, m in SECTIONS if not only or any(w in entry for w in only)]
     if not chosen:
         raise InvalidInputError(
             f"--only {' '.join(only or [])!r} matches no report section; valid: a word of "
             + ", ".join(entry for entry, _ in SECTIONS)
         )
+    if jobs is not None and jobs < 1:
+        raise InvalidInputError(f"--jobs {jobs}; valid: >= 1")
     out_dir.mkdir(parents=True, exist_ok=True)
+    outcomes: dict[str, Outcome] = {}
+    with tqdm(total=len(chosen), disable=quiet, unit="section", desc="reproduce") as bar:
+        for outcome in run_sections(chosen, out_dir, jobs, cache):
+            outcomes[outcome.name] = outcome
+            bar.set_postfix_str(outcome.name.rsplit(".", 1)[-1], refresh=False)
+            bar.update(1)
     parts = [
         "# rcm-pin: reproduction report\n",
         "Every number below is computed by rcm-pin from the models in `xacro/`; published"
         " values are typed in from the papers (listed under *Sources* at the end) with their"
         " source. Where they differ the table says why. Regenerate with `rcm-pin reproduce`.\n",
     ]
-    timings = []
-    for entry, fn in chosen:
-        start = time.perf_counter()
-        if not quiet:
-            print(f"[reproduce] {entry} ...", flush=True)
-        section = fn(out_dir)
-        elapsed = time.perf_counter() - start
-        timings.append((section.title, elapsed))
+    for entry, _ in chosen:
+        section = outcomes[entry].section
         parts.append(f"## {section.title}\n\n{section.body.strip()}\n")
         unshown = [f for f in section.figures if f"]({f})" not in section.body]
         if unshown:  # embed figures the body only names
@@ -65,7 +77,14 @@ def write_report(out_dir: Path, only: list[str] | None = None, quiet: bool = Fal
     parts.append("## Sources\n")
     parts.append("\n".join(f"- {ref}" for ref in SOURCES) + "\n")
     parts.append("## Run time per section\n")
-    parts.append("\n".join(f"- {title}: {sec:.1f} s" for title, sec in timings) + "\n")
+    parts.append(
+        "\n".join(
+            f"- {o.section.title}: "
+            + ("reused from the cache (inputs unchanged)" if o.cached else f"{o.seconds:.1f} s")
+            for o in (outcomes[e] for e, _ in chosen)
+        )
+        + "\n"
+    )
     path = out_dir / "report.md"
     path.write_text("\n".join(parts))
     return path

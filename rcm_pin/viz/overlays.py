@@ -59,12 +59,16 @@ def point_markers(mech: Mechanism) -> dict[str, int]:
 
 def marker_radius(mech: Mechanism, q: np.ndarray, largest: float = 0.008) -> float:
     """Default marker radius [m]: ``largest``, or 4 % of the size of a smaller mechanism
-    (diagonal of the box around every frame origin at coordinates q)."""
+    (diagonal of the box around every frame origin at coordinates q; where every frame
+    origin is one point, e.g. a spherical mechanism's centre, the closures' length scale)."""
     data = mech.model.createData()
     pin.forwardKinematics(mech.model, data, mech.to_pin(q))
     pin.updateFramePlacements(mech.model, data)
     p = np.array([M.translation for M in data.oMf])
-    return min(largest, 0.04 * float(np.linalg.norm(np.ptp(p, axis=0))))
+    size = float(np.linalg.norm(np.ptp(p, axis=0)))
+    if size < 1e-9:  # all origins at one point: the size comes from the loops (or none)
+        size = mech.loops.length_scale if mech.loops is not None else largest / 0.04
+    return min(largest, 0.04 * size)
 
 
 def sphere(radius: float, color: Any, opacity: float) -> tuple[Any, Any]:

@@ -22,17 +22,8 @@ from rcm_pin.model.family import Branch, Family
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import Output
 
-#: xacro arguments that must be positive lengths [m].
-POSITIVE_ARGS = (
-    "base_radius",
-    "platform_radius",
-    "proximal_1",
-    "proximal_2",
-    "proximal_3",
-    "distal_1",
-    "distal_2",
-    "distal_3",
-)
+#: Most (x, y, φ) inverse problems of one workspace summary (about 10 s of work).
+MAX_EVALUATIONS = 10_000_000
 #: Working-mode labels in index order.
 MODES = tuple(f"{w:03b}".replace("0", "+").replace("1", "-") for w in range(8))
 
@@ -63,6 +54,7 @@ class Planar3RRRFamily(Family):
     name = "planar_3rrr"
     description = "planar 3-RRR parallel mechanisms (paper 004)"
     closed = True
+    workspace_options = ("n", "phi", "phi_range")
 
     def inverse_position(
         self, mech: Mechanism, target: np.ndarray, output: Output
@@ -112,6 +104,12 @@ class Planar3RRRFamily(Family):
         da, db = ws.det_maps(geometry(mech), grid, phi, mode)
         return {"x": grid.x, "y": grid.y, "det_A": da, "det_B": db, "mode": MODES[mode], "phi": phi}
 
+    def design_metrics(self) -> dict[str, Any]:
+        """Regular workspace area and conditioning of a design (:mod:`.design`)."""
+        from rcm_pin.mechanisms.planar_3rrr.design import METRICS
+
+        return dict(METRICS)
+
     def workspace_summary(self, mech: Mechanism, **options: Any) -> dict[str, Any]:
         """Constant-orientation, total and reachable areas [m²] on an n × n grid."""
         from rcm_pin.mechanisms.planar_3rrr import workspace as ws
@@ -120,8 +118,20 @@ class Planar3RRRFamily(Family):
         phi_range: tuple[float, float] = options.get("phi_range") or (-np.pi, np.pi)
         lo, hi = float(phi_range[0]), float(phi_range[1])
         step, n = float(options.get("phi_step", 2.0 * np.pi / 180.0)), int(options.get("n", 121))
-        if not (np.isfinite(lo) and np.isfinite(hi) and lo <= hi):
-            raise InvalidInputError(f"phi range {lo},{hi}; valid: lo <= hi, finite [rad]")
+        if not (np.isfinite(lo) and np.isfinite(hi) and lo <= hi <= lo + 2.0 * np.pi + 1e-9):
+            raise InvalidInputError(
+                f"phi range {lo:g},{hi:g}; valid: finite lo <= hi within one turn (hi − lo <= "
+                "2π) [rad]"
+            )
+        if not (np.isfinite(step) and step > 0.0):
+            raise InvalidInputError(f"phi step {step:g}; valid: > 0 [rad]")
+        count_phi = int(np.floor((hi - lo) / step + 1e-9)) + 1  # = len(phis) below
+        if n * n * count_phi > MAX_EVALUATIONS:
+            raise InvalidInputError(
+                f"a {n} x {n} grid at {count_phi} orientations is {n * n * count_phi:.3g} inverse "
+                f"problems; valid: at most {MAX_EVALUATIONS:.0e} (a smaller --n or a coarser "
+                "phi step)"
+            )
         g = geometry(mech)
         grid = ws.Grid.around(g, n)
         cell = float((grid.x[1] - grid.x[0]) * (grid.y[1] - grid.y[0]))
@@ -170,4 +180,4 @@ class Planar3RRRFamily(Family):
 
 FAMILY = Planar3RRRFamily()
 
-__all__ = ["FAMILY", "MODES", "POSITIVE_ARGS", "Planar3RRRFamily", "geometry", "normalised_ab"]
+__all__ = ["FAMILY", "MODES", "Planar3RRRFamily", "geometry", "normalised_ab"]

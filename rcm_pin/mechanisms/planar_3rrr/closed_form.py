@@ -94,6 +94,17 @@ def ab_matrices(g: Geometry3RRR, pose: np.ndarray, q: np.ndarray) -> tuple[np.nd
     return a_mat, b_mat
 
 
+def reachable(g: Geometry3RRR, pose: np.ndarray) -> np.ndarray:
+    """Whether every leg reaches its platform vertex, |l1_i − l2_i| ≤ |A_i C_i| ≤ l1_i + l2_i
+    (...,) bool: the reach mask of :func:`inverse_position` (the same 1e-12 band on the
+    cosine) without computing any angle, for maps that need only reachability."""
+    d = g.vertices(pose) - g.base
+    dist2 = np.sum(d * d, axis=-1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        cos_g = (dist2 + g.l1**2 - g.l2**2) / (2.0 * g.l1 * np.sqrt(dist2))
+    return np.all(np.abs(cos_g) < 1.0 + 1e-12, axis=-1)
+
+
 def inverse_position(g: Geometry3RRR, pose: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """All 8 working modes of the inverse problem, vectorised over poses.
 

@@ -39,8 +39,8 @@ class Grid:
 
 
 def constant_orientation(g: p3.Geometry3RRR, grid: Grid, phi: float) -> np.ndarray:
-    """Boolean (ny, nx) map of W(φ)."""
-    return p3.inverse_position(g, grid.poses(phi))[1]
+    """Boolean (ny, nx) map of W(φ) (reachability only, :func:`.closed_form.reachable`)."""
+    return p3.reachable(g, grid.poses(phi))
 
 
 def orientation_count(g: p3.Geometry3RRR, grid: Grid, phis: np.ndarray) -> np.ndarray:

@@ -25,24 +25,6 @@ from rcm_pin.model.family import Branch, Cause, Family, StopEvent, TaskKinematic
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import Output
 
-#: xacro arguments of the RCM variants that must be positive (lengths, tooth counts,
-#: pulley diameters).
-POSITIVE_ARGS = (
-    "l9",
-    "a7_x",
-    "z13",
-    "z14",
-    "z16",
-    "z17",
-    "z18",
-    "z19",
-    "z21",
-    "z22",
-    "d1",
-    "d2",
-    "d3",
-    "d4",
-)
 #: Design (xacro) parameters that enter the kinematics, per transmission.
 BEVEL_PARAMS = ("l9", "a7_x", "a7_z", "z13", "z14", "z16", "z17", "z18", "z19", "z21", "z22")
 BELT_PARAMS = ("l9", "a7_x", "a7_z", "d1", "d2", "d3", "d4")
@@ -135,6 +117,12 @@ class RcmFamily(Family):
 
         return report(mech, q)
 
+    def design_metrics(self) -> dict[str, Any]:
+        """Rig coverage, conditioning and RCM drift of a design (:mod:`.design`)."""
+        from rcm_pin.mechanisms.rcm.design import METRICS
+
+        return dict(METRICS)
+
     def scenarios(self, mech: Mechanism) -> dict[str, Any]:
         """Paper 000's sinusoid (Kn = 720, Kc = 12) and a circle inside the rig's workspace."""
         from rcm_pin.control.computed_torque import Gains
@@ -168,6 +156,5 @@ __all__ = [
     "BEVEL_PARAMS",
     "FAMILY",
     "PLACEMENT_JOINTS",
-    "POSITIVE_ARGS",
     "RcmFamily",
 ]

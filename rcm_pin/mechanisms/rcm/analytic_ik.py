@@ -29,6 +29,7 @@ from numpy.typing import ArrayLike
 
 from rcm_pin.errors import InvalidInputError, UnreachablePoseError
 from rcm_pin.mechanisms.rcm.closed_form import WRIST_TYPES, WristType
+from rcm_pin.mechanisms.rcm.ik_scalar import ik_pose_one
 from rcm_pin.mechanisms.rcm.ik_solutions import Degeneracy, IKSolutions
 from rcm_pin.mechanisms.rcm.ik_tables import (
     _NEAR,
@@ -46,6 +47,8 @@ from rcm_pin.mechanisms.rcm.ik_tables import (
     _run,
 )
 from rcm_pin.rotations import ROTATION_TOL, FloatArray, rot_x, rot_y
+
+_ZERO_CODE = np.zeros(1, dtype=np.int8)
 
 
 def _wrist_near_aligned(
@@ -180,6 +183,10 @@ def ik_pose(
         return ik_pose_4dof(T, check_rotation=check_rotation, rot_tol=rot_tol, sing_tol=sing_tol)
     if wrist_type not in WRIST_TYPES:
         raise InvalidInputError(f"wrist_type must be 'zyz', 'rpy' or None, got {wrist_type!r}")
+    if check_rotation and type(T) is np.ndarray and T.dtype == np.float64 and T.ndim == 2:
+        fast = ik_pose_one(T, wrist_type, pos_tol, sing_tol) if T.shape[1] == 4 else None
+        if fast is not None:  # one regular pose: scalar arithmetic (:mod:`.ik_scalar`)
+            return IKSolutions(fast[0][None], _ZERO_CODE.copy(), np.array([fast[1]]), wrist_type)
     block = _block6(wrist_type, pos_tol, sing_tol)
     q, code, dist = _run(_as_poses(T), block, _TABLE6[wrist_type], check_rotation, rot_tol)
     return IKSolutions(q, code, dist, wrist_type)

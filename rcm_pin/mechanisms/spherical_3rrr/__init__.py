@@ -5,7 +5,11 @@
   and the proof that the Agile Eye has no type-2 pose off its type-1 set;
 * :mod:`.direct`: the direct problem of any design, a trigonometric polynomial of degree 4
   in one passive angle of leg 1 (at most 8 assembly modes);
-* :mod:`.paper`: paper 004's tan φ equations F1..F3 (F1 corrected) and A, B from them.
+* :mod:`.paper`: paper 004's tan φ equations F1..F3 (F1 corrected) and A, B from them;
+* :mod:`.maps`, :mod:`.workspace`, :mod:`.plots`: singularity maps in tilt-and-torsion
+  angles, the six singular curves, the largest singularity-free tilt cone (two routes);
+* :mod:`.accuracy`: paper 004's linear accuracy theory (the δα Cramer misprints) beside the
+  nonlinear recomputation (the ``accuracy`` hook).
 
 Working modes are labelled by the sign of u_i·(w_i × v_i) of each leg, ``+++`` … ``---``
 (index 4 s_1 + 2 s_2 + s_3, s_i = 0 for ``+``); ``home`` (R = I, φ = 0) is ``+++``.
@@ -36,25 +40,21 @@ angular velocity ω (rows (v_i × w_i)ᵀ), B = diag(u_i·(w_i × v_i)).
 
 from __future__ import annotations
 
+from pathlib import Path
+from typing import Any
+
 import numpy as np
 
 from rcm_pin.errors import SingularConfigurationError, UnreachablePoseError
+from rcm_pin.mechanisms.spherical_3rrr import accuracy, direct
 from rcm_pin.mechanisms.spherical_3rrr import closed_form as sc
-from rcm_pin.mechanisms.spherical_3rrr import direct
 from rcm_pin.model.family import Branch, Family
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import Output
+from rcm_pin.rotations import matrix_to_rpy
 
-#: xacro arguments that must be positive [m, kg].
-POSITIVE_ARGS = (
-    "proximal_radius",
-    "distal_radius",
-    "platform_radius",
-    "m_proximal",
-    "m_distal",
-    "m_platform",
-    "m_pair",
-)
+#: Size of each error variable of :meth:`Spherical3RRRFamily.accuracy_report` [rad].
+ACCURACY_ERROR = float(np.radians(0.5))
 #: Working-mode labels in index order.
 MODES = tuple(f"{w:03b}".replace("0", "+").replace("1", "-") for w in range(8))
 
@@ -135,13 +135,60 @@ class Spherical3RRRFamily(Family):
         """Normalised A and B of the loop equations (:func:`normalised_ab`)."""
         return normalised_ab(geometry(mech), *pose_and_drives(mech, q))
 
+    def design_metrics(self) -> dict[str, Any]:
+        """Regular share of SO(3) and conditioning of a design (:mod:`.design`)."""
+        from rcm_pin.mechanisms.spherical_3rrr.design import METRICS
+
+        return dict(METRICS)
+
+    def workspace_summary(self, mech: Mechanism, **options: Any) -> dict[str, Any]:
+        """Reachable share of ``samples`` (≤ 20 000) random orientations; for the Agile Eye
+        the largest singularity-free tilt cone about the symmetry axis [deg] for torsion
+        half-ranges 0°, 30°, …, 180° (:mod:`.workspace`, the curve route)."""
+        from rcm_pin.mechanisms.spherical_3rrr import maps, workspace
+        from rcm_pin.rotations import random_rotations
+
+        g = geometry(mech)
+        n_rot = min(int(options.get("samples", 20_000)), 20_000)
+        rots = random_rotations(np.random.default_rng(int(options.get("seed", 0))), n_rot)
+        cl = np.einsum("iba,sib->sia", g.B, np.einsum("sab,ib->sia", rots, g.v0))
+        a, b = np.sin(g.t1) * cl[..., 1], -np.sin(g.t1) * cl[..., 0]
+        c = np.cos(g.t1) * cl[..., 2] - np.cos(g.t2)
+        reach = float(np.mean(np.all(a * a + b * b - c * c >= -sc.DELTA_TOL, axis=1)))
+        out: dict[str, Any] = {"orientations": n_rot, "reachable_share": reach}
+        if g.agile_eye:
+            axis = maps.symmetry_axis(g)
+            out["symmetry_axis"] = axis
+            for sig in range(0, 181, 30):
+                cone = workspace.cone_from_curves(g, axis, np.radians(sig))
+                out[f"cone_deg_torsion_{sig}"] = float(np.degrees(cone)) if cone > 1e-9 else 0.0
+        return out
+
+    def plot_workspace(self, mech: Mechanism, path: Path, **options: Any) -> Path | None:
+        """The singularity maps (tilt, azimuth × torsion) of working mode ``mode``."""
+        from rcm_pin.mechanisms.spherical_3rrr import plots
+
+        return plots.maps_figure(geometry(mech), Path(path), mode=int(options.get("mode") or 0))
+
+    def accuracy_parameters(self, mech: Mechanism) -> tuple[str, ...]:
+        """The link angles θ_i1, θ_i2 (xacro arguments, the paper's error variables)."""
+        return tuple(p for p in accuracy.PARAMETERS if p.startswith("theta"))
+
+    def accuracy_report(self, mech: Mechanism, q: np.ndarray) -> dict[str, Any]:
+        """Linear (Cramer) vs nonlinear output errors for 0.5° in each link angle and each
+        drive angle, drives locked, at the closed configuration q (:mod:`.accuracy`)."""
+        R, phi = pose_and_drives(mech, mech.check_q(q))
+        x = np.array(matrix_to_rpy(R))
+        rows = accuracy.table(geometry(mech), x, phi, ACCURACY_ERROR)
+        return {"mechanism": mech.name, "q": q, "angles": x, "error": ACCURACY_ERROR, "rows": rows}
+
 
 FAMILY = Spherical3RRRFamily()
 
 __all__ = [
+    "ACCURACY_ERROR",
     "FAMILY",
     "MODES",
-    "POSITIVE_ARGS",
     "Spherical3RRRFamily",
     "full_q",
     "geometry",

@@ -8,13 +8,16 @@ mimic parallelograms (``translational_3ppapa``) and the 4R-loop parallelograms
 
 from __future__ import annotations
 
+from pathlib import Path
+from typing import Any
+
 import numpy as np
 
-from rcm_pin.errors import UnreachablePoseError
+from rcm_pin.errors import InvalidInputError, UnreachablePoseError
+from rcm_pin.mechanisms.translational_3ppapa import accuracy
 from rcm_pin.mechanisms.translational_3ppapa.closed_form import (
     LEG_SIGNS,
     MODES,
-    POSITIVE_ARGS,
     SIGN_PATTERNS,
     Geometry3PPaPa,
     a_from_angles,
@@ -27,14 +30,38 @@ from rcm_pin.mechanisms.translational_3ppapa.closed_form import (
     platform_point,
     residual,
 )
+from rcm_pin.mechanisms.translational_3ppapa.direct import DirectSolutions, direct_all, direct_batch
 from rcm_pin.model.family import Branch, Family
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import Output
+
+#: The paper's control-reference amplitudes (x, y, z) [m]: the ``regular`` configuration.
+REGULAR = (0.1, 0.12, 0.15)
 
 
 def geometry(mech: Mechanism) -> Geometry3PPaPa:
     """The closed-form geometry of a loaded 3-PPaPa (from its sidecar parameters)."""
     return Geometry3PPaPa.from_params(mech._require_loops().params)
+
+
+def drive_limits(mech: Mechanism) -> tuple[float, float]:
+    """The common drive stroke (lower, upper) [m] of P1, P2, P3 (the URDF limits)."""
+    idx = [mech.joint_names.index(f"P{i}") for i in (1, 2, 3)]
+    return float(np.max(mech.lower[idx])), float(np.min(mech.upper[idx]))
+
+
+def diagonal_singularity(g: Geometry3PPaPa) -> float:
+    """t* [m] of the type-2 point x = y = z = t* in mode ``++/++/++``: the eigenvalue of the
+    circulant A along (1, 1, 1), −1 + t/√(l2² − t²) + t/√(l1² − t²), vanishes (bisection on
+    an increasing function of t ∈ (0, min(l1, l2)))."""
+    lo, hi = 0.0, min(g.l1, g.l2)
+    for _ in range(200):
+        t = 0.5 * (lo + hi)
+        f = t / np.sqrt(g.l2**2 - t * t) + t / np.sqrt(g.l1**2 - t * t) - 1.0
+        lo, hi = (t, hi) if f < 0.0 else (lo, t)
+        if hi - lo < 1e-16:
+            break
+    return 0.5 * (lo + hi)
 
 
 def joint_values(q: np.ndarray, angles: np.ndarray) -> dict[str, float]:
@@ -85,10 +112,11 @@ class Translational3PPaPaFamily(Family):
         return [Branch(mech_q(mech, q, ang), lab) for lab, q, ang in sols]
 
     def direct_position(self, mech: Mechanism, drives: np.ndarray) -> list[np.ndarray] | None:
-        """Every assembly mode the seeded Newton finds (``++/++/++`` first)."""
+        """Every assembly mode of the batched direct solver (:mod:`.direct`, ``++/++/++``
+        first), as seeds that the generic code polishes on Pinocchio's closures."""
         g = geometry(mech)
         out = []
-        for lab, p in direct_position(g, np.asarray(drives, dtype=float)):
+        for lab, p in direct_all(g, np.asarray(drives, dtype=float)):
             pattern = SIGN_PATTERNS[MODES.index(lab)]
             legs = [leg_angles(g, p, i, pattern[i]) for i in range(3)]
             ang = np.array([x[1:] for x in legs if x is not None])
@@ -100,29 +128,80 @@ class Translational3PPaPaFamily(Family):
         return MODES
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
-        """``home``: P = 0, every crank along its drive axis (mode ``++/++/++``)."""
+        """``home``: P = 0, every crank along its drive axis; ``regular``: P at the paper's
+        reference amplitudes :data:`REGULAR` (both in mode ``++/++/++``)."""
         _, q, ang = inverse_position(geometry(mech), np.zeros(3))[0]
-        return {"home": mech_q(mech, q, ang)}
+        _, qr, angr = inverse_position(geometry(mech), np.array(REGULAR))[0]
+        return {"home": mech_q(mech, q, ang), "regular": mech_q(mech, qr, angr)}
 
     def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """A = ∂F/∂p from the crank angles and B = I (both dimensionless)."""
         return a_from_angles(crank_angles(mech, q)), np.eye(3)
 
+    def workspace_summary(self, mech: Mechanism, **options: Any) -> dict[str, Any]:
+        """Reach and det-A-sign volumes per working mode (:mod:`.workspace`), Monte Carlo
+        with standard errors beside a grid; options ``samples``, ``grid``, ``seed``."""
+        from rcm_pin.mechanisms.translational_3ppapa import workspace as ws
+
+        samples = int(options.get("samples", 20_000))
+        if not 1 <= samples <= ws.MAX_SAMPLES:
+            raise InvalidInputError(
+                f"{samples} workspace samples, each solved in all 64 working modes; valid: "
+                f"1..{ws.MAX_SAMPLES} (about 15 s of work at the most)"
+            )
+        return ws.volumes(
+            geometry(mech),
+            drive_limits(mech),
+            samples,
+            int(options.get("grid", 22)),
+            int(options.get("seed", 0)),
+        )
+
+    def plot_workspace(self, mech: Mechanism, path: Path, **options: Any) -> Path:
+        """Sections x, y, z = 0 and = t* (diagonal type-2 point) with the singular sets."""
+        from rcm_pin.mechanisms.translational_3ppapa.plots import sections_figure
+
+        g = geometry(mech)
+        mode = str(options.get("mode", MODES[0]))
+        return sections_figure(g, Path(path), diagonal_singularity(g), mode)
+
+    def accuracy_parameters(self, mech: Mechanism) -> tuple[str, ...]:
+        """The link lengths l1, l2, l3 (xacro ``side_1``, ``side_2``, ``offset``)."""
+        return ("side_1", "side_2", "offset")
+
+    def accuracy_report(self, mech: Mechanism, q: np.ndarray) -> dict[str, Any]:
+        """1 mm errors in l1, l2, l3, drives locked: the linear theory (Cramer's rule,
+        denominator det A restored) beside the nonlinear re-solve (:mod:`.accuracy`)."""
+        g, qc = geometry(mech), mech.check_q(q)
+        drives = qc[list(mech._require_loops().drive_q)]
+        angles = crank_angles(mech, qc)
+        signs = np.where(np.cos(angles) >= 0.0, 1.0, -1.0)
+        p = platform_point(g, drives, angles)
+        return {"mechanism": mech.name, "q": qc, **accuracy.report(g, drives, p, signs, angles)}
+
 
 FAMILY = Translational3PPaPaFamily()
+#: Catalogue names of the two parallelogram models (crank + mimic, 4R loops).
+MODELS = (FAMILY.name, f"{FAMILY.name}_loops")
 
 __all__ = [
     "FAMILY",
     "LEG_SIGNS",
+    "MODELS",
     "MODES",
-    "POSITIVE_ARGS",
+    "REGULAR",
     "SIGN_PATTERNS",
+    "DirectSolutions",
     "Geometry3PPaPa",
     "Translational3PPaPaFamily",
     "a_from_angles",
     "a_matrix",
     "crank_angles",
+    "diagonal_singularity",
+    "direct_all",
+    "direct_batch",
     "direct_position",
+    "drive_limits",
     "geometry",
     "inverse_position",
     "joint_values",

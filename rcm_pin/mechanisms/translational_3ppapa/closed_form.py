@@ -43,8 +43,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-#: xacro arguments that must be positive lengths [m].
-POSITIVE_ARGS = ("side_1", "side_2", "offset", "width_1", "width_2")
 #: Signs (s_i1, s_i2) of one leg.
 LEG_SIGNS = ((1, 1), (1, -1), (-1, 1), (-1, -1))
 #: Every working mode: (s11, s12), (s21, s22), (s31, s32).
@@ -193,7 +191,6 @@ def direct_position(
 __all__ = [
     "LEG_SIGNS",
     "MODES",
-    "POSITIVE_ARGS",
     "SIGN_PATTERNS",
     "Geometry3PPaPa",
     "a_from_angles",

@@ -1,0 +1,207 @@
+"""Running the report's sections: in parallel processes, each cached by what it depends on.
+
+Each section runs in a folder of its own (``out/.work/<slug>``) so that sections running at
+the same time never mix their files; its files are then moved into ``out`` (the markdown
+refers to them by bare names, so the links stay valid).
+
+**Cache.** A section's result (title, markdown, figures, the files it wrote and their
+hashes) is kept in ``out/.cache/<slug>.json`` under a key, the SHA-256 of
+
+* the sources of every module the section's module imports, directly or not (the import
+  graph of ``rcm_pin`` and ``ocp`` built by grimp, the library behind import-linter), and
+  its own source;
+* every file of ``xacro/`` and ``urdf/`` (the models the sections load);
+* the versions of the numerical packages (Pinocchio, CasADi, NumPy, SciPy, matplotlib,
+  example-robot-data) and of Python.
+
+A rerun reuses a section when its key is unchanged and every file it wrote is still in
+``out`` with the same hash; ``cache=False`` (``--no-cache``) recomputes everything.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import platform
+import shutil
+import sys
+import time
+from collections.abc import Callable, Iterator
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from dataclasses import asdict, dataclass
+from functools import lru_cache
+from importlib import metadata
+from multiprocessing import get_all_start_methods, get_context
+from pathlib import Path
+
+from rcm_pin.model.resources import urdf_dir, xacro_dir
+from rcm_pin.report.framework import Section
+
+SectionFn = Callable[[Path], Section]
+#: Packages whose versions enter every cache key.
+PACKAGES = ("pin", "casadi", "numpy", "scipy", "matplotlib", "example-robot-data")
+
+
+@dataclass(frozen=True)
+class Outcome:
+    """One section's result: the section, its run time [s] and whether it came from cache."""
+
+    name: str
+    section: Section
+    seconds: float
+    cached: bool
+
+
+def slug(name: str) -> str:
+    """A file-name form of a section's name."""
+    return "".join(c if c.isalnum() else "_" for c in name).strip("_")
+
+
+def _sha(path: Path) -> str:
+    st = path.stat()
+    return _sha_of(str(path), st.st_mtime_ns, st.st_size)
+
+
+@lru_cache(maxsize=4096)
+def _sha_of(path: str, mtime_ns: int, size: int) -> str:
+    """SHA-256 of a file, computed once per (path, modification time, size) in a process."""
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+@lru_cache(maxsize=1)
+def _models_digest() -> str:
+    """One digest of every file of ``xacro/`` and ``urdf/`` (shared by all section keys)."""
+    digest = hashlib.sha256()
+    for folder in (xacro_dir(), urdf_dir()):
+        for path in sorted(folder.rglob("*")):
+            if path.is_file():
+                digest.update(f"{path.name}:{_sha(path)}\n".encode())
+    return digest.hexdigest()
+
+
+@lru_cache(maxsize=1)
+def _graph() -> object:
+    import grimp
+
+    return grimp.build_graph("rcm_pin", "ocp", cache_dir=None)
+
+
+def _module_file(module: str) -> Path | None:
+    """The source file of a module of ``rcm_pin`` or ``ocp`` (or one already imported),
+    found without importing it (importing would run a package's whole ``__init__``)."""
+    root = Path(__file__).resolve().parents[2]
+    base = root.joinpath(*module.split("."))
+    for path in (base.with_suffix(".py"), base / "__init__.py"):
+        if path.is_file():
+            return path
+    loaded = sys.modules.get(module)
+    found = getattr(loaded, "__file__", None)
+    return Path(found) if found else None
+
+
+def cache_key(module: str) -> str:
+    """The cache key of a section module (module docstring)."""
+    graph = _graph()
+    known = module in graph.modules  # type: ignore[attr-defined]
+    upstream = graph.find_upstream_modules(module) if known else set()  # type: ignore[attr-defined]
+    modules = sorted({module, *upstream})
+    digest = hashlib.sha256()
+    for name in modules:
+        path = _module_file(name)
+        if path is not None and path.is_file():
+            digest.update(f"{name}:{_sha(path)}\n".encode())
+    digest.update(_models_digest().encode())
+    versions = [f"{p}={_version(p)}" for p in PACKAGES] + [platform.python_version()]
+    digest.update(" ".join(versions).encode())
+    return digest.hexdigest()
+
+
+def _version(package: str) -> str:
+    try:
+        return metadata.version(package)
+    except metadata.PackageNotFoundError:
+        return "-"
+
+
+def _cached(out_dir: Path, name: str, key: str) -> Section | None:
+    path = out_dir / ".cache" / f"{slug(name)}.json"
+    if not path.is_file():
+        return None
+    try:
+        entry = json.loads(path.read_text())
+        if entry["key"] != key:
+            return None
+        for file, sha in entry["files"].items():
+            if not (out_dir / file).is_file() or _sha(out_dir / file) != sha:
+                return None
+        s = entry["section"]
+        return Section(s["title"], s["body"], tuple(s["figures"]))
+    except (OSError, ValueError, KeyError, TypeError):
+        return None  # a damaged cache entry is recomputed
+
+
+def run_one(name: str, module: str, out_dir: Path, key: str) -> Outcome:
+    """Run one section in its own work folder, move its files out, record it in the cache."""
+    fn = _resolve(module)
+    work = out_dir / ".work" / slug(name)
+    shutil.rmtree(work, ignore_errors=True)
+    work.mkdir(parents=True)
+    start = time.perf_counter()
+    section = fn(work)
+    seconds = time.perf_counter() - start
+    files = {}
+    for path in sorted(p for p in work.rglob("*") if p.is_file()):
+        rel = path.relative_to(work)
+        (out_dir / rel).parent.mkdir(parents=True, exist_ok=True)
+        shutil.move(path, out_dir / rel)
+        files[str(rel)] = _sha(out_dir / rel)
+    shutil.rmtree(work, ignore_errors=True)
+    cache = out_dir / ".cache"
+    cache.mkdir(exist_ok=True)
+    entry = {"key": key, "name": name, "files": files, "section": asdict(section)}
+    (cache / f"{slug(name)}.json").write_text(json.dumps(entry, indent=1))
+    return Outcome(name, section, seconds, cached=False)
+
+
+def _resolve(module: str) -> SectionFn:
+    """A section module's ``section`` function (imported now)."""
+    from rcm_pin.report.sections import section_function
+
+    return section_function(module)
+
+
+def _pool(jobs: int, modules: list[str]) -> ProcessPoolExecutor:
+    """Workers forked from a server that imported the sections once (spawn without one)."""
+    if "forkserver" not in get_all_start_methods():
+        return ProcessPoolExecutor(max_workers=jobs, mp_context=get_context("spawn"))
+    context = get_context("forkserver")
+    context.set_forkserver_preload(modules)
+    return ProcessPoolExecutor(max_workers=jobs, mp_context=context)
+
+
+def run_sections(
+    chosen: list[tuple[str, str]], out_dir: Path, jobs: int | None = None, cache: bool = True
+) -> Iterator[Outcome]:
+    """Outcomes of the chosen (name, module) sections, cached ones first, the others as
+    they finish."""
+    jobs = jobs or os.cpu_count() or 1
+    keys = {name: cache_key(module) for name, module in chosen}
+    todo = []
+    for name, module in chosen:
+        hit = _cached(out_dir, name, keys[name]) if cache else None
+        if hit is not None:
+            yield Outcome(name, hit, 0.0, cached=True)
+        else:
+            todo.append((name, module))
+    if jobs == 1 or len(todo) <= 1:
+        for name, module in todo:
+            yield run_one(name, module, out_dir, keys[name])
+        return
+    with _pool(min(jobs, len(todo)), [m for _, m in todo]) as pool:
+        futures = [pool.submit(run_one, n, m, out_dir, keys[n]) for n, m in todo]
+        for future in as_completed(futures):
+            yield future.result()
+
+
+__all__ = ["Outcome", "cache_key", "run_one", "run_sections", "slug"]
