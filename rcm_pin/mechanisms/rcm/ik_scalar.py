@@ -14,14 +14,19 @@ same order (tests compare them to 1e-12 on random poses). The formulas are those
 from __future__ import annotations
 
 import math
+from operator import itemgetter
 
 import numpy as np
 
 from rcm_pin.mechanisms.rcm.ik_tables import _NEAR, _SCREEN, _TABLE6, POS_TOL, SING_TOL
 
 PI = math.pi
-#: The branch tables as plain indices (variant index per coordinate), per wrist type.
-_INDEX = {w: [[int(v) for v in b] for b in t] for w, t in _TABLE6.items()}
+#: Per wrist type, an itemgetter picking the 48 branch entries (8 branches × q1..q6, row-
+#: major) from the 24 variants (a, −a, a + π, π − a) of the six principal coordinates.
+_PICK = {
+    w: itemgetter(*(4 * i + int(v) for branch in t for i, v in enumerate(branch)))
+    for w, t in _TABLE6.items()
+}
 
 
 def _variants(a: float) -> tuple[float, float, float, float]:
@@ -38,17 +43,15 @@ def _variants(a: float) -> tuple[float, float, float, float]:
 def _screen(r: list[float]) -> float | None:
     """First-order distance of R (row-major 9 entries) from SO(3), or None if it needs the
     SVD projection (distance > 1e-12 or det ≤ 0)."""
-    x, y, z = (r[0], r[3], r[6]), (r[1], r[4], r[7]), (r[2], r[5], r[8])  # columns
-
-    def dot(u: tuple[float, ...], v: tuple[float, ...]) -> float:
-        return u[0] * v[0] + u[1] * v[1] + u[2] * v[2]
-
-    gxx, gyy, gzz = dot(x, x) - 1.0, dot(y, y) - 1.0, dot(z, z) - 1.0
-    gxy, gxz, gyz = dot(x, y), dot(x, z), dot(y, z)
+    x0, y0, z0, x1, y1, z1, x2, y2, z2 = r  # columns x, y, z of R (rows 0..2)
+    gxx = x0 * x0 + x1 * x1 + x2 * x2 - 1.0
+    gyy = y0 * y0 + y1 * y1 + y2 * y2 - 1.0
+    gzz = z0 * z0 + z1 * z1 + z2 * z2 - 1.0
+    gxy, gxz = x0 * y0 + x1 * y1 + x2 * y2, x0 * z0 + x1 * z1 + x2 * z2
+    gyz = y0 * z0 + y1 * z1 + y2 * z2
     sq = gxx * gxx + gyy * gyy + gzz * gzz + 2.0 * (gxy * gxy + gxz * gxz + gyz * gyz)
     dist = 0.5 * math.sqrt(sq)
-    det = z[0] * (x[1] * y[2] - x[2] * y[1]) + z[1] * (x[2] * y[0] - x[0] * y[2])
-    det += z[2] * (x[0] * y[1] - x[1] * y[0])
+    det = z0 * (x1 * y2 - x2 * y1) + z1 * (x2 * y0 - x0 * y2) + z2 * (x0 * y1 - x1 * y0)
     return dist if dist <= _SCREEN and det > 0.0 else None
 
 
@@ -94,10 +97,11 @@ def ik_pose_one(
         a5, a6 = math.atan2(h, w2j), math.atan2(w2m, -w2k)
     else:
         a5, a6 = math.atan2(-w2j, h), math.atan2(w2m, w2k)
-    variants = [_variants(a) for a in (a1, a2)] + [(r, -r, r, r)]
-    variants += [_variants(a) for a in (a4, a5, a6)]
-    flat = [variants[i][v] for branch in _INDEX[wrist] for i, v in enumerate(branch)]
-    return np.array(flat).reshape(8, 6), dist
+    values = (  # q3 is a length: only ±r
+        *_variants(a1), *_variants(a2), r, -r, r, r,
+        *_variants(a4), *_variants(a5), *_variants(a6),
+    )  # fmt: skip
+    return np.array(_PICK[wrist](values)).reshape(8, 6), dist
 
 
 __all__ = ["ik_pose_one"]
