@@ -51,7 +51,7 @@ SMALL = Study(
             Study("rcm_bevel", (Vary("q2_limit", 0.5, 1.0),), ("speed",)),
             InvalidInputError,
             "unknown metric 'speed' for rcm_bevel; valid: cone_coverage, cone_margin, "
-            "worst_conditioning, rcm_drift",
+            "worst_conditioning, global_conditioning, rcm_drift",
         ),
         (
             Study("rcm_bevel", (Vary("l9", -0.1, 0.3),), ("rcm_drift",)),
@@ -271,3 +271,15 @@ def test_spherical_regular_share_verdicts_agree_with_pinocchio(args):
     assert checked >= 3
     share = sd.regular_share(mech)
     assert 0 < share < 1
+
+
+@pytest.mark.parametrize("args", [{}, {"q2_limit": "0.7", "q3_lower": "0.03"}])
+def test_global_conditioning_equals_its_closed_form(args):
+    """κ⁻¹ = q3·cos q2 / L on the box (σ = q3 cos q2 / L, q3 / L, 1 with q3 ≤ L), so the
+    volume-weighted mean is (1/L)·(∫q3³/∫q3²)·(∫cos²q2/∫cos q2) over the limits."""
+    mech = rcm_pin.load("rcm_bevel", **args)
+    a, b, c = mech.lower[2], mech.upper[2], mech.upper[1]
+    assert mech.lower[1] == -c
+    radial = ((b**4 - a**4) / 4) / ((b**3 - a**3) / 3)
+    angular = (c + np.sin(2 * c) / 2) / (2 * np.sin(c))
+    np.testing.assert_allclose(rd.global_conditioning(mech), radial * angular / b, rtol=1e-12)

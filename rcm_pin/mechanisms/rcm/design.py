@@ -15,6 +15,9 @@ same figure on every worker.
   κ⁻¹ = (q3/L)·cos q2 / max(q3/L, 1) = (q3_lower/q3_upper)·cos(max |q2|) at the corner of
   the box; the metric takes the minimum over a 21³ grid of the box (corners included) by
   batched SVD, and tests compare it with that closed form and with Pinocchio's Jacobian.
+* ``global_conditioning`` [-]: Gosselin and Angeles' global conditioning index, the mean of
+  κ⁻¹ over the workspace weighted by its volume element q3²·cos q2 (Gauss–Legendre in
+  q2, q3; tests compare it with the closed form (1/L)·(∫q3³/∫q3²)·(∫cos²q2/∫cos q2));
 * ``rcm_drift`` [m]: RMS distance of the insertion line from A when every part placement
   on the chain to the tool (:data:`rcm_pin.mechanisms.rcm.PLACEMENT_JOINTS`) has independent
   normal errors σ_t = 0.05 mm per translation and σ_r = 0.05° per rotation, worst over the
@@ -73,6 +76,24 @@ def cone_margin(mech: Mechanism) -> float:
     """θ_max − 60° [deg]; 0 when they agree within the bisection's 1e-9 rad."""
     gap = max_contained_cone(mech) - SPEC_HALF_ANGLE
     return 0.0 if abs(gap) < 1e-9 else float(np.rad2deg(gap))
+
+
+def global_conditioning(mech: Mechanism, nodes: int = 16) -> float:
+    """Global conditioning index (Gosselin–Angeles): the mean of κ⁻¹ over the workspace,
+    weighted by its volume element |det J| = q3²·cos q2, by Gauss–Legendre quadrature in
+    (q2, q3) (κ does not depend on q1)."""
+    lo, hi = mech.lower[:3], mech.upper[:3]
+    x, w = np.polynomial.legendre.leggauss(nodes)
+    q2 = 0.5 * (hi[1] - lo[1]) * x + 0.5 * (hi[1] + lo[1])
+    q3 = 0.5 * (hi[2] - lo[2]) * x + 0.5 * (hi[2] + lo[2])
+    g2, g3 = np.meshgrid(q2, q3, indexing="ij")
+    weight = np.outer(w, w) * g3**2 * np.abs(np.cos(g2))
+    q = np.stack([np.zeros(g2.size), g2.ravel(), g3.ravel()], axis=-1)
+    jac = point_jacobians(q)
+    jac[:, :, :2] /= hi[2]  # characteristic length L = q3_upper
+    s = np.linalg.svd(jac, compute_uv=False)
+    inv_kappa = (s[:, -1] / s[:, 0]).reshape(g2.shape)
+    return float(np.sum(weight * inv_kappa) / np.sum(weight))
 
 
 def drift_sensitivities(mech: Mechanism, q: FloatArray) -> tuple[list[str], FloatArray]:
@@ -135,6 +156,13 @@ METRICS: dict[str, DesignMetric] = {
             worst_conditioning,
         ),
         DesignMetric(
+            "global_conditioning",
+            "-",
+            "max",
+            "mean inverse condition number over the workspace (volume-weighted, L = q3_upper)",
+            global_conditioning,
+        ),
+        DesignMetric(
             "rcm_drift",
             "m",
             "min",
@@ -149,6 +177,7 @@ __all__ = [
     "cone_margin",
     "drift_contributions",
     "drift_sensitivities",
+    "global_conditioning",
     "point_jacobians",
     "rcm_drift",
     "sigmas",
