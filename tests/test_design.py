@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import numpy as np
-import pinocchio as pin
 import pytest
 
 import rcm_pin
@@ -17,7 +16,6 @@ from rcm_pin.errors import (
     XacroArgumentError,
 )
 from rcm_pin.mechanisms.rcm import design as rd
-from rcm_pin.mechanisms.rcm.accuracy import outputs
 from rcm_pin.mechanisms.rcm.workspace import (
     SPEC_HALF_ANGLE,
     SPEC_R_MAX,
@@ -145,24 +143,12 @@ def test_rcm_drift_linear_rms_matches_a_nonlinear_monte_carlo():
     """E|c|² = Σ σ_k²|S_k|² (first order) against 400 models with every placement perturbed
     at once: the Monte Carlo RMS has a relative standard error of about 1/sqrt(2·400) = 3.5 %
     plus the second-order remainder (σ ~ 1e-3 rad: 0.1 %), hence the 12 % bound (3.4 σ)."""
-    mech = rcm_pin.load("rcm_bevel")
-    q = mech.family.configurations(mech)["mid"]
-    names, sens = rd.drift_sensitivities(mech, q)
-    sig = rd.sigmas()
-    linear = np.sqrt(np.sum(sig**2 * np.sum(sens**2, axis=1)))
-    rng = np.random.default_rng(7)
-    model, qp = mech.model.copy(), mech.to_pin(q)
-    data = model.createData()
-    nominal = [model.jointPlacements[model.getJointId(n.split()[0])].copy() for n in names[::6]]
-    samples = []
-    for _ in range(400):
-        delta = rng.normal(0.0, sig).reshape(-1, 6)
-        for joint, m0, d in zip(names[::6], nominal, delta, strict=True):
-            model.jointPlacements[model.getJointId(joint.split()[0])] = m0 * pin.exp6(d)
-        samples.append(np.linalg.norm(outputs(model, data, qp)[6:9]))
-    mc = np.sqrt(np.mean(np.square(samples)))
+    from rcm_pin.studies.rig_design import monte_carlo_drift
+
+    linear, mc = monte_carlo_drift("rcm_bevel", samples=400, seed=7)
     assert abs(mc - linear) < 0.12 * linear, (mc, linear)
-    shares = rd.drift_contributions(mech, q)
+    mech = rcm_pin.load("rcm_bevel")
+    shares = rd.drift_contributions(mech, mech.family.configurations(mech)["mid"])
     np.testing.assert_allclose(sum(s for _, s in shares), 1.0, rtol=1e-12)
 
 

@@ -9,6 +9,7 @@ from pathlib import Path
 import numpy as np
 
 from rcm_pin.design import run
+from rcm_pin.design.execute import CHUNK
 from rcm_pin.design.plots import metric_map
 from rcm_pin.design.store import pareto
 from rcm_pin.report.framework import Section
@@ -38,7 +39,7 @@ def section(out_dir: Path) -> Section:
         "objective worst_conditioning (the smallest inverse condition number of the "
         "tool-centre Jacobian over the joint box, angular columns over L = q3_upper). "
         f"{len(frame)} designs in {res.seconds:.1f} s ({per_design:.2f} s a design on "
-        f"{math.ceil(len(frame) / 8)} tasks).",
+        f"{math.ceil(len(frame) / CHUNK)} tasks).",
         "",
         "| route | q2_limit [deg] | q3_lower [m] | worst κ⁻¹ |",
         "| --- | ---: | ---: | ---: |",
