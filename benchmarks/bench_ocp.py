@@ -3,17 +3,27 @@
     python benchmarks/bench_ocp.py            # twin, IK, tracking (about 2 min)
     python benchmarks/bench_ocp.py --jit      # also JIT-compiled tracking (compiles ~1 min)
     python benchmarks/bench_ocp.py --only ik  # one part: twin | ik | closed | tracking
+    python benchmarks/bench_ocp.py --only tracking --sizes 100 --json  # ratios as JSON
 
 Prints markdown tables: per-call times of the symbolic twin (CasADi VM vs JIT vs numeric
 Pinocchio), IK solve times (cold and warm, per solver) against the analytic IK, the IK of
 the closed mechanisms' outputs (closures as constraints) against ``rcm_pin.inverse``, and
 the tracking OCP's solve time and iterations for N = 50, 100, 200 with IPOPT and fatrop.
 Models come from the catalogue (``rcm_pin.load``; panda from example-robot-data).
+
+``--json`` (tracking part): the drive-limited OCP against its floor, the unlimited OCP,
+side by side in one run, for each configuration (CasADi VM, compiled stage functions
+with the exact or the cost-only Hessian, compiled + screening) and case (URDF limits,
+inactive; 0.8 x the exact solution's peak efforts on q1..q3 with the wrist locked,
+binding): build and cached rebuild times, median solve times of ``--repeats`` solves,
+iterations, the ratios to the unlimited solve of the same configuration and of the VM,
+and the solution's largest differences from the VM exact-Hessian solution.
 """
 
 from __future__ import annotations
 
 import argparse
+import json
 import time
 from collections.abc import Callable
 from functools import partial
@@ -186,13 +196,104 @@ def bench_tracking(jit: bool, sizes: list[int]) -> None:
             )
 
 
+#: Configurations of the JSON tracking benchmark: build and solve keyword arguments.
+#: ``vm_exact`` (no screening) is the solve before issue 17 and the reference solution;
+#: the defaults since then are ``vm_exact_screen`` (screening on, no compilation).
+TRACKING_CONFIGS: dict[str, tuple[dict[str, Any], dict[str, Any]]] = {
+    "vm_exact": ({}, {"screen": False}),
+    "vm_exact_screen": ({}, {"screen": True}),
+    "compiled_exact": ({"compile": "-O1"}, {"screen": False}),
+    "compiled_exact_O0": ({"compile": "-O0"}, {"screen": False}),
+    "compiled_cost": ({"compile": "-O1", "hessian": "cost"}, {"screen": False}),
+    "compiled_exact_screen": ({"compile": "-O1"}, {"screen": True}),
+}
+#: Cases: (drive-limit constraints, wrist locked, limits) and the floor each is compared to.
+TRACKING_CASES = {
+    "unlimited": (False, False, "none"),
+    "unlimited_locked_wrist": (False, True, "none"),
+    "urdf_limits": (True, False, "urdf"),
+    "binding_limits": (True, True, "binding"),
+}
+FLOORS = {"urdf_limits": "unlimited", "binding_limits": "unlimited_locked_wrist"}
+
+
+def _limits(mech: rcm_pin.Mechanism, kind: str) -> np.ndarray | None:
+    if kind == "urdf":
+        return mech.model.effortLimit.copy()
+    if kind == "binding":
+        lim = np.full(mech.nq, np.inf)
+        lim[:3] = 0.8 * paper.peak_efforts(mech)[:3]
+        return lim
+    return None
+
+
+def tracking_json(n: int, repeats: int) -> dict[str, Any]:
+    """The ratios of the drive-limited to the unlimited tracking OCP at ``n`` intervals."""
+    out: dict[str, Any] = {"n_intervals": n, "repeats": repeats, "configs": {}}
+    ref: dict[str, Any] = {}
+    for cname, (build_kw, solve_kw) in TRACKING_CONFIGS.items():
+        built: dict[str, Any] = {}
+        for case, (limited, lock, kind) in TRACKING_CASES.items():
+            timed = []
+            for _ in range(2):  # first build (may compile), then the cached rebuild
+                start = time.perf_counter()
+                ocp, mech = paper.build(
+                    n_intervals=n, drive_limits=limited, lock_wrist=lock, **build_kw
+                )
+                timed.append(time.perf_counter() - start)
+            built[case] = (ocp, mech, _limits(mech, kind), timed)
+        runs: dict[str, list[Any]] = {case: [] for case in built}
+        for _ in range(repeats):  # round robin: the cases share the machine's load
+            for case, (ocp, mech, lim, _) in built.items():
+                x0 = paper.initial_state(mech)
+                runs[case].append(
+                    ocp.solve(paper.reference_position, x0, effort_limits=lim,
+                              raise_on_failure=False, **solve_kw)
+                )  # fmt: skip
+        rows: dict[str, Any] = {}
+        for case, (_, _, _, timed) in built.items():
+            res = runs[case][0]
+            row = {
+                "build_s": timed[0],
+                "rebuild_s": timed[1],
+                "solve_ms": 1e3 * float(np.median([r.solve_time for r in runs[case]])),
+                "iterations": res.iterations,
+                "status": res.status,
+                "objective": res.objective,
+            }
+            base = ref.setdefault(case, res)
+            row["vs_vm_exact"] = {
+                "q_max_diff": float(np.abs(res.q_colloc - base.q_colloc).max()),
+                "tau_max_diff": float(np.abs(res.tau - base.tau).max()),
+                "objective_diff": abs(res.objective - base.objective),
+            }
+            rows[case] = row
+        for case, floor in FLOORS.items():
+            rows[case]["floor"] = f"{floor} ({cname})"
+            rows[case]["ratio"] = rows[case]["solve_ms"] / rows[floor]["solve_ms"]
+        out["configs"][cname] = rows
+    vm = out["configs"]["vm_exact"]
+    for rows in out["configs"].values():
+        for case, floor in FLOORS.items():
+            rows[case]["ratio_vs_vm_floor"] = rows[case]["solve_ms"] / vm[floor]["solve_ms"]
+    return out
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--jit", action="store_true", help="also time JIT-compiled tracking")
     parser.add_argument("--only", choices=("twin", "ik", "closed", "tracking"))
     parser.add_argument("--poses", type=int, default=1000)
     parser.add_argument("--sizes", type=int, nargs="+", default=[50, 100, 200])
+    parser.add_argument("--json", action="store_true", help="tracking ratios as JSON")
+    parser.add_argument("--repeats", type=int, default=5, help="solves per case (--json)")
     args = parser.parse_args()
+    if args.json:
+        if args.only not in (None, "tracking"):
+            parser.error("--json applies to the tracking part (--only tracking)")
+        runs = [tracking_json(n, args.repeats) for n in args.sizes]
+        print(json.dumps(runs[0] if len(runs) == 1 else runs, indent=2))
+        return
     if args.only in (None, "twin"):
         bench_twin()
     if args.only in (None, "ik"):

@@ -16,6 +16,18 @@ constraint Jacobian there; away from closure they differ by second-order terms o
 :func:`log3` is smooth through θ = 0 (the closed configurations): ω = (θ / sin θ) v with
 v = vee(R − Rᵀ) / 2 = sin θ · axis, and θ / sin θ replaced by 1 + |v|² / 6 below
 θ ≈ 1e-8 (error O(θ⁴)); it is not defined at θ = π (nor is log₃).
+
+:func:`pinocchio_closure` is the second form, which mirrors Pinocchio's Newton inputs
+(:func:`rcm_pin.model.loops.residual_and_jacobian`) operation for operation, for the
+compiled Newton of :mod:`ocp.kernels`:
+
+    3d:  e = R_aᵀ (p_a − p_b),   J = R_aᵀ (J_a − J_b)_lin     (LOCAL_WORLD_ALIGNED; this J
+         drops ∂R_aᵀ/∂q, so it is exact only where e = 0, as Pinocchio's route is)
+    6d:  e = log₆(ᵃM_b) = [V⁻¹(ω) ᵃp_b ; ω],  ω = log₃(ᵃR_b),  J = ∂e/∂q (exact, as
+         Pinocchio's Jlog₆(ᵃM_b)(J_b − Ad(ᵇM_a) J_a) is), with
+         V⁻¹(ω) p = α p − ½ ω × p + β (ω·p) ω,  α = θ sin θ / (2 (1 − cos θ)),
+         β = 1/θ² − sin θ / (2 θ (1 − cos θ))  (series 1 − θ²/12 − θ⁴/720, 1/12 + θ²/720
+         below θ² = 1e-8, as ``pin.log6``).
 """
 
 from __future__ import annotations
@@ -78,10 +90,56 @@ def closure_expr(sm: SymbolicModel, loops: Loops, q: Sym, rows: Sequence[int] | 
     return ca.vertcat(*parts) if parts else type(q).zeros(0, 1)
 
 
+def log6(rot: Sym, p: Sym) -> Sym:
+    """``pin.log6`` of the placement (R, p): [V⁻¹(ω) p ; ω] (6,) [m, rad] (module docstring)."""
+    w = log3(rot)
+    t2 = ca.sumsqr(w)
+    th = ca.sqrt(ca.fmax(t2, 1e-300))
+    st, ct = ca.sin(th), ca.cos(th)
+    small = t2 < 1e-8
+    alpha = ca.if_else(small, 1.0 - t2 / 12.0 - t2 * t2 / 720.0, th * st / (2.0 * (1.0 - ct)))
+    beta = ca.if_else(small, 1.0 / 12.0 + t2 / 720.0, 1.0 / t2 - st / (2.0 * th * (1.0 - ct)))
+    lin = alpha * p - 0.5 * ca.cross(w, p) + beta * ca.dot(w, p) * w
+    return ca.vertcat(lin, w)
+
+
+def pinocchio_closure(
+    sm: SymbolicModel, loops: Loops, q: Sym, columns: Sequence[int]
+) -> tuple[Sym, Sym]:
+    """Pinocchio's closure residual e(q) (m,) and its Newton Jacobian (m, len(columns))
+    restricted to the v ``columns`` (module docstring: the second form). ``q`` must be
+    an SX symbol (or an expression of SX symbols) of a Euclidean model (nq = nv)."""
+    es: list[Any] = []
+    js: list[Any] = []
+    cols = list(columns)
+    for c in loops.closures:
+        p_a, r_a = sm.frame_placement(c.frame_a_id)(q)
+        p_b, r_b = sm.frame_placement(c.frame_b_id)(q)
+        rows = list(c.rows)
+        if c.kind == "3d":
+            j_a = sm.frame_jacobian(c.frame_a_id)(q)
+            j_b = sm.frame_jacobian(c.frame_b_id)(q)
+            rt = r_a.T
+            es.append(ca.mtimes(rt, p_a - p_b)[rows])
+            js.append(ca.mtimes(rt, j_a[:3, cols] - j_b[:3, cols])[rows, :])
+        else:
+            err = log6(ca.mtimes(r_a.T, r_b), ca.mtimes(r_a.T, p_b - p_a))[rows]
+            es.append(err)
+            js.append(ca.jacobian(err, q)[:, cols])
+    return ca.vertcat(*es), ca.vertcat(*js)
+
+
 def closure_function(sm: SymbolicModel, loops: Loops) -> ca.Function:
     """``closure(q) -> e``: the kept closure rows as a named CasADi function."""
     q = ca.SX.sym("q", sm.nq)
     return ca.Function("closure", [q], [closure_expr(sm, loops, q)], ["q"], ["e"])
 
 
-__all__ = ["closure_expr", "closure_function", "independent_rows", "log3"]
+__all__ = [
+    "closure_expr",
+    "closure_function",
+    "independent_rows",
+    "log3",
+    "log6",
+    "pinocchio_closure",
+]

@@ -158,14 +158,23 @@ def track_command(
     solver: str = "ipopt",
     limit_scale: float | None = None,
     jit: bool = False,
+    compile: bool = False,
 ) -> dict[str, Any]:
     """Paper 000's tracking OCP; ``limit_scale`` puts the q1..q3 drive limits at that
-    fraction of the analytic peak efforts (and locks the wrist), None: no drive limits."""
+    fraction of the analytic peak efforts (and locks the wrist), None: no drive limits;
+    ``compile``: the stage functions compiled to C through the disk cache
+    (:mod:`ocp.compiled`)."""
     limited = limit_scale is not None
     if limited and not 0.0 < float(limit_scale) <= 10.0:  # type: ignore[arg-type]
         raise InvalidInputError(f"limit_scale must lie in (0, 10], got {limit_scale!r}")
     ocp, mech = paper.build(
-        name, n_intervals, solver=solver, drive_limits=limited, lock_wrist=limited, jit=jit
+        name,
+        n_intervals,
+        solver=solver,
+        drive_limits=limited,
+        lock_wrist=limited,
+        jit=jit,
+        compile=compile,
     )
     peak = paper.peak_efforts(mech)
     lim = None

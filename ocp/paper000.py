@@ -24,6 +24,7 @@ import pinocchio as pin
 
 import rcm_pin
 from ocp.models import require_serial
+from ocp.stagewise import Hessian
 from ocp.tracking import TrackingOCP, TrackingResult
 from rcm_pin.catalog import ENTRIES, get_entry
 from rcm_pin.control.references import get_trajectory
@@ -112,8 +113,11 @@ def build(
     drive_limits: bool = True,
     lock_wrist: bool = False,
     jit: bool = False,
+    hessian: Hessian = "exact",
+    compile: bool | str = False,
 ) -> tuple[TrackingOCP, rcm_pin.Mechanism]:
-    """The tracking OCP of the tool centre of ``name`` over one period.
+    """The tracking OCP of the tool centre of ``name`` over one period (``jit``,
+    ``hessian``, ``compile``: see :class:`ocp.tracking.TrackingOCP`).
 
     Raises:
         InvalidInputError: a closed mechanism, or one whose family has no closed-form
@@ -144,6 +148,8 @@ def build(
         posture_weights=mech.to_pin(weights),
         solver=solver,  # type: ignore[arg-type]
         jit=jit,
+        hessian=hessian,
+        compile=compile,
     )
     return ocp, mech
 
@@ -153,13 +159,16 @@ def solve(
     mech: rcm_pin.Mechanism,
     effort_limits: np.ndarray | None = None,
     raise_on_failure: bool = True,
+    screen: bool = True,
 ) -> TrackingResult:
-    """Track the paper's reference from the exact initial state."""
+    """Track the paper's reference from the exact initial state (``screen``: see
+    :meth:`ocp.tracking.TrackingOCP.solve`)."""
     return ocp.solve(
         reference_position,
         initial_state(mech),
         effort_limits=effort_limits,
         raise_on_failure=raise_on_failure,
+        screen=screen,
     )
 
 

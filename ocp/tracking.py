@@ -22,7 +22,14 @@ each (:mod:`ocp.collocation`, Radau IIA by default), in the order of the math:
 * initial guess: given, or "hold" (``q_init`` everywhere, node velocities ``v_init``);
 * solve: IPOPT (exact Hessian) or fatrop (structure given manually: the layout above is
   fatrop's ``[x_k, u_k]`` / ``[gap_k, path_k]`` order). Derivatives are assembled stage by
-  stage (:mod:`ocp.stagewise`); ``jit=True`` compiles the stage functions.
+  stage (:mod:`ocp.stagewise`); ``jit=True`` compiles the stage functions with CasADi's
+  JIT at every build, ``compile=True`` (or C compiler flags, e.g. ``"-O0"``) through the
+  disk cache of :mod:`ocp.compiled` (once per model, frame, scheme, weights and limits
+  present: the step enters the stage as a parameter, :mod:`ocp.tracking_stage`);
+  ``hessian="cost"`` hands IPOPT the cost's Hessian only (the constraints' curvature, i.e.
+  the drive limits' ``lam . d2 tau``, dropped: exact while the limits are inactive);
+  ``solve`` (``screen=True``, the default) solves without the path constraints first and
+  keeps that solution when it respects the limits (:meth:`TrackingOCP.solve`).
 
 The model is a serial :class:`rcm_pin.Mechanism` (default frame: its tool frame) or a
 ``pin.Model`` with a frame; the efforts are eliminated through the tree's inverse
@@ -33,6 +40,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
+from dataclasses import replace
 from typing import Any, Literal
 
 import casadi as ca
@@ -40,15 +48,17 @@ import numpy as np
 
 from ocp.collocation import Scheme, collocation
 from ocp.models import ModelSource, require_serial, resolve
-from ocp.stagewise import StagewiseNLP
+from ocp.stagewise import Hessian, StagewiseNLP
 from ocp.symbolic import JIT_OPTIONS, SymbolicModel
+from ocp.tracking_grid import TrackingGrid
 from ocp.tracking_result import TrackingResult, make_result
+from ocp.tracking_stage import StageCost, tracking_stage
 from rcm_pin.errors import InvalidInputError, SolverError
 
 Reference = Callable[[np.ndarray], np.ndarray] | np.ndarray
 
 
-class TrackingOCP:
+class TrackingOCP(TrackingGrid):
     """Build once for a model, frame, horizon and grid; :meth:`solve` per reference."""
 
     def __init__(
@@ -71,6 +81,8 @@ class TrackingOCP:
         tol: float = 1e-12,
         max_iter: int = 200,
         jit: bool = False,
+        hessian: Hessian = "exact",
+        compile: bool | str = False,
     ) -> None:
         require_serial(model, "the tracking OCP")
         src = resolve(model, frame)
@@ -80,6 +92,14 @@ class TrackingOCP:
             raise InvalidInputError("tracking needs nq == nv (no continuous joints)")
         if horizon <= 0 or n_intervals < 1 or solver not in ("ipopt", "fatrop"):
             raise InvalidInputError("need horizon > 0, n_intervals >= 1, solver ipopt|fatrop")
+        fatrop_custom = solver == "fatrop" and (hessian != "exact" or bool(compile))
+        if hessian not in ("exact", "cost") or fatrop_custom or (jit and compile):
+            raise InvalidInputError(
+                f"hessian={hessian!r}, compile={compile!r} with solver={solver!r}, "
+                f"jit={jit!r}; valid: hessian 'exact' | 'cost', compile and 'cost' with "
+                "solver 'ipopt' only (fatrop differentiates the expanded NLP itself), "
+                "compile without jit (it replaces it)"
+            )
         self.fid, self.solver_name = src.frame_id, solver
         self.T, self.N, self.col = float(horizon), int(n_intervals), collocation(degree, scheme)
         self.h, d = self.T / self.N, degree
@@ -87,64 +107,44 @@ class TrackingOCP:
         self.upper = np.asarray(sm.model.upperPositionLimit if upper is None else upper, float)
         posture_w = np.zeros(n) if posture_weights is None else np.asarray(posture_weights, float)
         self.drive_limits, self.velocity_limits = drive_limits, velocity_limits
-        # -- variables (one stage: node state, collocation positions, next node state) -----
         self.nx, self.nu = 2 * n, n * d
-        z = ca.SX.sym("z", 2 * self.nx + self.nu)
-        p_ref, post = ca.SX.sym("p_ref", 3, d), ca.SX.sym("posture", n)
-        x, x_next = z[: self.nx], z[self.nx + self.nu :]
-        qs = [x[:n]] + [z[self.nx + r * n : self.nx + (r + 1) * n] for r in range(d)]
-        vs = [x[n:]] + [
-            sum(self.col.D[j, r] * qs[j] for j in range(d + 1)) / self.h for r in range(d)
-        ]
-        acc = [sum(self.col.D[j, r] * vs[j] for j in range(d + 1)) / self.h for r in range(d)]
-        place, rnea = sm.frame_placement(self.fid), sm.rnea()
-        taus = [rnea(qs[r + 1], vs[r + 1], acc[r]) for r in range(d)]
-        pos = [place(qs[r + 1])[0] for r in range(d)]
-        # -- objective (quadrature of the stage cost over the interval, time-averaged) -----
-        cost = 0
-        for r in range(d):
-            stage = position_weight * ca.sumsqr(pos[r] - p_ref[:, r])
-            stage += ca.dot(posture_w, (qs[r + 1] - post) ** 2)
-            if effort_weight:
-                stage += effort_weight * ca.sumsqr(taus[r])
-            cost += self.h * self.col.B[r] / self.T * stage
-        # -- dynamics (gap closing) and path constraints ----------------------------------
-        end = ca.vertcat(
-            sum(self.col.E[j] * qs[j] for j in range(d + 1)),
-            sum(self.col.E[j] * vs[j] for j in range(d + 1)),
-        )
-        g = [x_next - end] + (taus if drive_limits else []) + (vs[1:] if velocity_limits else [])
         self.n_path = n * d * (int(drive_limits) + int(velocity_limits))
-        pars = ca.vertcat(ca.vec(p_ref), post)
-        self.stage = ca.Function(
-            "tracking_stage", [z, pars], [ca.vertcat(*g), cost], ["z", "p"], ["g", "l"]
+        self._cost = StageCost(float(position_weight), posture_w, float(effort_weight))
+        self.stage, self.outputs = tracking_stage(
+            sm, self.fid, self.col, self._cost, drive_limits, velocity_limits
         )
-        self.outputs = ca.Function(
-            "tracking_outputs",
-            [z],
-            [ca.horzcat(*vs[1:]), ca.horzcat(*acc), ca.horzcat(*taus), ca.horzcat(*pos)],
-            ["z"],
-            ["V", "A", "tau", "p"],
-        )
-        # -- the NLP over all stages (variables in fatrop's [x_0, u_0, ..., x_N] order) ------
+        self._settings = (solver, tol, max_iter, jit, hessian, compile)
+        self.nlp, self.solver = self._nlp_solver(self.stage)
+        self._unlimited: tuple[StagewiseNLP, ca.Function] | None = None
+
+    def _nlp_solver(self, stage: ca.Function) -> tuple[StagewiseNLP, ca.Function]:
+        """The NLP over all stages (variables in fatrop's ``[x_0, u_0, ..., x_N]`` order)."""
+        solver, tol, max_iter, jit, hessian, compile = self._settings
+        n, d = self.sm.nv, self.col.degree
         pref_all, post_mx = ca.MX.sym("p_ref", 3, self.N * d), ca.MX.sym("posture", n)
-        params = ca.vertcat(ca.reshape(pref_all, 3 * d, self.N), ca.repmat(post_mx, 1, self.N))
-        self.nlp = StagewiseNLP(
-            self.stage,
+        steps = np.tile([[1.0 / self.h], [self.h / self.T]], (1, self.N))
+        params = ca.vertcat(
+            ca.reshape(pref_all, 3 * d, self.N), ca.repmat(post_mx, 1, self.N), ca.DM(steps)
+        )
+        nlp = StagewiseNLP(
+            stage,
             self.N,
             self.nx + self.nu,
             self.nx,
             params,
             ca.vertcat(ca.vec(pref_all), post_mx),
             dict(JIT_OPTIONS) if jit else {},
+            hessian=hessian,
+            compile=("-O1" if compile is True else compile) or None,
         )
-        nlp = self.nlp.nlp if solver == "ipopt" else self.nlp.expanded()
-        self.solver = ca.nlpsol(
-            f"tracking_{solver}", solver, nlp, self._options(solver, tol, max_iter)
-        )
+        problem = nlp.nlp if solver == "ipopt" else nlp.expanded()
+        opts = self._options(nlp, solver, tol, max_iter, stage.size1_out(0) - self.nx)
+        return nlp, ca.nlpsol(f"tracking_{solver}", solver, problem, opts)
 
-    def _options(self, solver: str, tol: float, max_iter: int) -> dict[str, Any]:
-        opts: dict[str, Any] = self.nlp.solver_options() if solver == "ipopt" else {}
+    def _options(
+        self, nlp: StagewiseNLP, solver: str, tol: float, max_iter: int, n_path: int
+    ) -> dict[str, Any]:
+        opts: dict[str, Any] = nlp.solver_options() if solver == "ipopt" else {}
         opts.update(error_on_fail=False, print_time=False)
         if solver == "ipopt":
             opts["ipopt"] = {
@@ -161,75 +161,10 @@ class TrackingOCP:
             N=self.N,
             nx=[self.nx] * (self.N + 1),
             nu=[self.nu] * self.N + [0],
-            ng=[self.n_path] * self.N + [0],
+            ng=[n_path] * self.N + [0],
             fatrop={"print_level": 0, "tol": max(tol, 1e-10), "max_iter": max_iter},
         )
         return opts
-
-    # -- times, bounds, guesses -------------------------------------------------------------
-    def _split(self, w: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Node states (N + 1, nx) and stage controls (N, nu) of a variable vector."""
-        body = w[: -self.nx].reshape(self.N, self.nx + self.nu)
-        return np.vstack([body[:, : self.nx], w[-self.nx :]]), body[:, self.nx :]
-
-    def _join(self, x: np.ndarray, u: np.ndarray) -> np.ndarray:
-        return np.concatenate([np.hstack([x[:-1], u]).reshape(-1), x[-1]])
-
-    def bounds(
-        self,
-        x_init: np.ndarray,
-        effort_limits: np.ndarray | None,
-        velocity_limits: np.ndarray | None,
-    ) -> dict[str, np.ndarray]:
-        """``lbx, ubx, lbg, ubg``: boundary condition, joint, drive and velocity limits."""
-        n, d = self.sm.nv, self.col.degree
-        inf = np.full(n, np.inf)
-        tmax = inf if effort_limits is None else np.asarray(effort_limits, float)
-        vmax = inf if velocity_limits is None else np.asarray(velocity_limits, float)
-        for name, lim, on in (
-            ("effort", tmax, self.drive_limits),
-            ("velocity", vmax, self.velocity_limits),
-        ):
-            if lim.shape != (n,) or np.any(lim < 0) or (np.isfinite(lim).any() and not on):
-                raise InvalidInputError(
-                    f"{name}_limits must be ({n},) >= 0 and enabled at "
-                    f"construction ({name.replace('effort', 'drive')}"
-                    f"_limits=True)"
-                )
-        xl = np.concatenate([self.lower, np.full(n, -np.inf)])
-        xu = np.concatenate([self.upper, inf])
-        lbx = self._join(np.tile(xl, (self.N + 1, 1)), np.tile(np.tile(self.lower, d), (self.N, 1)))
-        ubx = self._join(np.tile(xu, (self.N + 1, 1)), np.tile(np.tile(self.upper, d), (self.N, 1)))
-        lbx[: self.nx] = ubx[: self.nx] = x_init  # boundary condition x_0 = x_init
-        path = np.concatenate(
-            [np.tile(tmax, d)] * self.drive_limits
-            + [np.tile(vmax, d)] * self.velocity_limits
-            + [np.zeros(0)]
-        )
-        ubg = np.tile(np.concatenate([np.zeros(self.nx), path]), self.N)
-        lbg = np.tile(np.concatenate([np.zeros(self.nx), -path]), self.N)
-        return {"lbx": lbx, "ubx": ubx, "lbg": lbg, "ubg": ubg}
-
-    def collocation_times(self) -> np.ndarray:
-        """Times of the ``N d`` collocation points."""
-        k = np.arange(self.N)[:, None]
-        return ((k + self.col.tau[None, 1:]) * self.h).reshape(-1)
-
-    def guess_from(self, q_colloc: np.ndarray, x_init: np.ndarray) -> np.ndarray:
-        """Variable vector from positions at the collocation points (N d, nq); node
-        velocities from the collocation polynomials."""
-        n, d = self.sm.nv, self.col.degree
-        qc = np.asarray(q_colloc, dtype=float).reshape(self.N, d, n)
-        qall = np.concatenate([np.vstack([x_init[None, :n], qc[:-1, -1]])[:, None], qc], 1)
-        vend = np.einsum("jr,kjn->krn", self.col.D, qall)[:, -1] / self.h
-        x = np.vstack([x_init, np.hstack([qc[:, -1], vend])])
-        return self._join(x, qc.reshape(self.N, d * n))
-
-    def hold_guess(self, x_init: np.ndarray) -> np.ndarray:
-        """``q_init`` at every point and node, node velocities ``v_init``."""
-        n = self.sm.nv
-        x = np.tile(x_init, (self.N + 1, 1))
-        return self._join(x, np.tile(x_init[:n], (self.N, self.col.degree)))
 
     # -- solve ---------------------------------------------------------------------------
     def solve(
@@ -242,9 +177,20 @@ class TrackingOCP:
         posture: np.ndarray | None = None,
         guess: np.ndarray | None = None,
         raise_on_failure: bool = True,
+        screen: bool = True,
     ) -> TrackingResult:
         """Track ``reference`` (callable ``t -> (..., 3)`` or ``(N d, 3)`` array) from the
-        state ``x_init = (q, v)``; ``effort_limits`` (nv,) bound ``|tau|``."""
+        state ``x_init = (q, v)``; ``effort_limits`` (nv,) bound ``|tau|``.
+
+        ``screen=True`` (the default) with finite limits first solves without the path
+        constraints (an NLP built on first use): a solution within the limits is a KKT
+        point of the limited problem (zero multipliers) and is returned; otherwise the
+        limited problem is solved from the same guess (iterations and solve time then count
+        both solves). The screened solution is the limited optimum without the interior
+        point's barrier bias (paper 000, URDF limits: 2e-13 in q from the analytic
+        zero-cost solution, against 1.4e-11 for the limited solve); ``screen=False`` always
+        solves the limited problem.
+        """
         tc = self.collocation_times()
         pref = np.asarray(reference(tc) if callable(reference) else reference, dtype=float)
         x_init = np.asarray(x_init, dtype=float).reshape(-1)
@@ -253,11 +199,19 @@ class TrackingOCP:
         post = np.zeros(self.sm.nv) if posture is None else np.asarray(posture, float)
         w0 = self.hold_guess(x_init) if guess is None else guess
         bounds = self.bounds(x_init, effort_limits, velocity_limits)
-        start = time.perf_counter()
-        sol = self.solver(x0=w0, p=np.concatenate([pref.reshape(-1), post]), **bounds)
-        wall = time.perf_counter() - start
-        stats = self.solver.stats()
-        result = self._result(np.asarray(sol["x"]).reshape(-1), pref, float(sol["f"]), stats, wall)
+        pars, screened = np.concatenate([pref.reshape(-1), post]), None
+        limits = (effort_limits, velocity_limits)
+        if screen and any(lim is not None and np.isfinite(lim).any() for lim in limits):
+            screened, within = self._screen(w0, pars, pref, bounds, limits)
+            if within:
+                return screened
+        result = self._call(self.solver, w0, pars, pref, bounds)
+        if screened is not None:
+            result = replace(
+                result,
+                iterations=result.iterations + screened.iterations,
+                solve_time=result.solve_time + screened.solve_time,
+            )
         if raise_on_failure and not result.success:
             raise SolverError(
                 f"tracking OCP ({self.solver_name}) failed: {result.status} "
@@ -265,13 +219,42 @@ class TrackingOCP:
             )
         return result
 
+    def _call(
+        self, solver: ca.Function, w0: np.ndarray, pars: np.ndarray, pref: np.ndarray, bounds: Any
+    ) -> TrackingResult:
+        start = time.perf_counter()
+        sol = solver(x0=w0, p=pars, **bounds)
+        wall = time.perf_counter() - start
+        w, f = np.asarray(sol["x"]).reshape(-1), float(sol["f"])
+        return self._result(w, pref, f, solver.stats(), wall)
+
+    def _screen(
+        self,
+        w0: np.ndarray,
+        pars: np.ndarray,
+        pref: np.ndarray,
+        bounds: dict[str, np.ndarray],
+        limits: tuple[np.ndarray | None, np.ndarray | None],
+    ) -> tuple[TrackingResult, bool]:
+        """The solve without path constraints, and whether it succeeded within the limits."""
+        if self._unlimited is None:
+            stage = tracking_stage(self.sm, self.fid, self.col, self._cost, False, False)[0]
+            self._unlimited = self._nlp_solver(stage)
+        gaps = np.zeros(self.N * self.nx)
+        free = {"lbx": bounds["lbx"], "ubx": bounds["ubx"], "lbg": gaps, "ubg": gaps}
+        res = self._call(self._unlimited[1], w0, pars, pref, free)
+        within = res.success
+        for lim, value in zip(limits, (res.tau, res.v_colloc)):
+            within = within and (lim is None or bool(np.all(np.abs(value) <= lim)))
+        return res, within
+
     def _result(
         self, w: np.ndarray, pref: np.ndarray, f: float, stats: dict[str, Any], wall: float
     ) -> TrackingResult:
         n = self.sm.nv
         x, u = self._split(w)
         zs = np.hstack([x[:-1], u, x[1:]]).T
-        outs = [np.asarray(o).T for o in self.outputs.map(self.N)(zs)]  # V, A, tau, p
+        outs = [np.asarray(o).T for o in self.outputs.map(self.N)(zs, 1.0 / self.h)]
         grid = (np.arange(self.N + 1) * self.h, x[:, :n], x[:, n:], self.collocation_times())
         return make_result(grid, u.reshape(-1, n), outs, pref, f, stats, wall, self.solver_name)
 

@@ -2,13 +2,22 @@
 
 from __future__ import annotations
 
+import atexit
 import os
+import shutil
+import tempfile
 
 import matplotlib
 import pytest
 
 matplotlib.use("Agg")
 os.environ.setdefault("MPLBACKEND", "Agg")
+if "RCM_PIN_CACHE" not in os.environ:
+    # compiled CasADi kernels (ocp.compiled) go to a cache of this session, never the
+    # user's: every run pays the cold compiles CI pays, and leaves nothing behind
+    _CACHE = tempfile.mkdtemp(prefix="rcm_pin_test_cache_")
+    os.environ["RCM_PIN_CACHE"] = _CACHE
+    atexit.register(shutil.rmtree, _CACHE, ignore_errors=True)
 
 #: Identities of exact formulas (closed form vs Pinocchio, coupling projections).
 EXACT = 1e-12

@@ -145,3 +145,17 @@ def test_arms_fk_ik(capsys, name):
     assert code == 0 and payload["count"] >= 1 and payload["method"] == "multistart LM"
     for s in payload["solutions"]:
         np.testing.assert_allclose(s["pose"], pose, atol=1e-9)
+
+
+def test_python_dash_m_runs_the_same_command_line():
+    """``python -m rcm_pin`` is the ``rcm-pin`` entry point (the benchmarks call it)."""
+    import subprocess
+    import sys
+
+    done = subprocess.run(
+        [sys.executable, "-m", "rcm_pin", "list", "--json"], capture_output=True, text=True
+    )
+    assert done.returncode == 0, done.stderr
+    assert "rcm_bevel" in [m["name"] for m in json.loads(done.stdout)["mechanisms"]]
+    bad = subprocess.run([sys.executable, "-m", "rcm_pin", "fk", "nope"], capture_output=True)
+    assert bad.returncode == 2

@@ -89,3 +89,16 @@ def test_ocp_errors(capsys, argv, kind, message):
     code, out = run(capsys, *argv, "--json")
     error = json.loads(out)["error"]
     assert code == 2 and error["type"] == kind and message in error["message"]
+
+
+def test_track_compile_with_fatrop_is_refused_before_any_build(capsys):
+    """``--compile`` reaches the OCP's option check (fatrop differentiates the expanded NLP
+    itself, so it cannot take compiled stage derivatives)."""
+    code = main(["ocp", "track", "--compile", "--solver", "fatrop", "--n", "10", "--json"])
+    error = json.loads(capsys.readouterr().out)["error"]
+    assert code == 2 and error["type"] == "InvalidInputError"
+    assert error["message"] == (
+        "hessian='exact', compile=True with solver='fatrop', jit=False; valid: hessian "
+        "'exact' | 'cost', compile and 'cost' with solver 'ipopt' only (fatrop "
+        "differentiates the expanded NLP itself), compile without jit (it replaces it)"
+    )

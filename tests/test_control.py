@@ -152,3 +152,19 @@ def test_redundant_arm_tracks_with_the_pinocchio_task():
     assert r.status == "completed"
     pred = linear_error(sc.gains, r.error[0], r.error_rate[0], r.t)
     assert np.abs(pred - r.error).max() < 1e-6
+
+
+@pytest.mark.parametrize("name", ["rcm_bevel", "rcm_belt"])
+def test_point_jacobian_and_bias_equal_pinocchio(name):
+    """The closed forms J, h = J̇ q̇ of p = q3 e4 against Pinocchio's frame Jacobian and its
+    time variation (LOCAL_WORLD_ALIGNED, mimic gears included) on random states."""
+    from rcm_pin.analysis.jacobians import jacobian_derivative, tool_jacobian
+
+    mech = rcm_pin.load(name)
+    rng = np.random.default_rng(7)
+    for _ in range(25):
+        q = rng.uniform(mech.lower, mech.upper)
+        v = rng.normal(size=mech.nv)
+        np.testing.assert_allclose(point_jacobian(q), tool_jacobian(mech, q)[:3, :3], atol=1e-12)
+        h = jacobian_derivative(mech, q, v)[:3] @ v
+        np.testing.assert_allclose(point_bias(q, v), h, atol=1e-12)

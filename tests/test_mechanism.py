@@ -159,3 +159,26 @@ def test_committed_urdf_loads_everywhere(name):
     assert robot.validate()
     model = pin.buildModelFromUrdf(str(spec.urdf_path), mimic=True)
     assert model.nq == rcm_pin.load(name).nq
+
+
+@pytest.mark.parametrize(
+    ("q", "message"),
+    [
+        (np.array([0.1, np.nan, 0.05, 0, 0, 0]), "q has NaN or infinite entries: "),
+        (np.array([0.1, np.inf, 0.05, 0, 0, 0]), "q has NaN or infinite entries: "),
+        (np.array([0.1, 2e6, 0.05, 0, 0, 0]), "q has an entry of magnitude 2e+06; valid: "),
+        (np.zeros(5), "q has shape (5,); valid: (6,) for rcm_bevel"),
+    ],
+)
+def test_check_q_fast_path_keeps_the_full_checks(q, message):
+    """A float64 (n,) array takes a one-hypot fast path; what fails it gets the full
+    checks and their messages, and an accepted array is returned as a copy."""
+    mech = rcm_pin.load("rcm_bevel")
+    with pytest.raises(InvalidInputError) as err:
+        mech.check_q(q)
+    assert str(err.value).startswith(message)
+    ok = np.array([0.1, -0.2, 0.05, 1e6, -1e6 + 1, 0.0])  # hypot > 1e6: the slow path accepts
+    for arr in (ok, np.array([0.1, -0.2, 0.05, 0.3, 0.4, 0.5])):
+        out = mech.check_q(arr)
+        assert out is not arr
+        np.testing.assert_array_equal(out, arr)

@@ -1,7 +1,9 @@
 """Numeric routes of the closed-loop position problems (no closed form needed).
 
 * :func:`solve_drives`: the rank-revealing Newton of :mod:`rcm_pin.model.newton` on the
-  mechanism's (per-thread) data;
+  mechanism's (per-thread) data, or the same Newton in a CasADi closure kernel
+  (:mod:`rcm_pin.model.kernels`) where one reproduces it (the result is the same to
+  rounding; wherever the kernel declines, the numpy route runs from the same start);
 * :func:`multistart_seeds` / :func:`inverse_seeds`: random starting configurations (a
   seeded generator, so results repeat), deduplicated after the solve by :func:`dedupe`;
 * :func:`direct_position_multistart`: the purely numeric direct problem that the tests
@@ -17,9 +19,10 @@ import numpy as np
 
 from rcm_pin.analysis.results import PositionResult, PositionSolution
 from rcm_pin.errors import SolverError
+from rcm_pin.model import kernels
 from rcm_pin.model.family import Branch
 from rcm_pin.model.mechanism import Mechanism
-from rcm_pin.model.newton import solve_output, solve_passive
+from rcm_pin.model.newton import MAX_ITER, MAX_STEP, solve_output, solve_passive
 from rcm_pin.model.output import Output
 from rcm_pin.rotations import wrap_angle
 
@@ -30,8 +33,31 @@ SAME_TOL = 1e-7
 def solve_drives(
     mech: Mechanism, drives: np.ndarray, q0: np.ndarray, **options: Any
 ) -> tuple[np.ndarray, int, float]:
-    """Passive joints for drive values from a starting configuration (Newton)."""
+    """Passive joints for drive values from a starting configuration (Newton).
+
+    Args:
+        mech: a closed mechanism.
+        drives: drive values (k,) [rad, m].
+        q0: full starting configuration (nq,).
+        **options: ``max_iter``, ``max_step`` of :func:`rcm_pin.model.newton.solve_passive`.
+
+    Returns:
+        (q with passive revolute angles wrapped, iterations, final residual norm [m]).
+
+    Raises:
+        SolverError: no convergence (the numpy route's message).
+    """
     loops = mech._require_loops()
+    kernel = kernels.closure_newton(mech)
+    if kernel is not None:
+        out = kernel(
+            q0,
+            drives,
+            max_iter=options.get("max_iter", MAX_ITER),
+            max_step=options.get("max_step", MAX_STEP),
+        )
+        if out is not None:
+            return out.q, out.iterations, out.residual
     return solve_passive(mech.model, mech.data, loops, drives, q0, name=mech.name, **options)
 
 

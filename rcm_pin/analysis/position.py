@@ -35,7 +35,8 @@ BRANCH_TOL = 1e-9
 
 def within_limits(mech: Mechanism, q: np.ndarray, tol: float = 1e-12) -> bool:
     """Whether every coordinate lies in [lower − tol, upper + tol]."""
-    return bool(np.all(q >= mech.lower - tol) and np.all(q <= mech.upper + tol))
+    lower, upper = mech.lower.tolist(), mech.upper.tolist()
+    return all(lo - tol <= x <= hi + tol for x, lo, hi in zip(q.tolist(), lower, upper))
 
 
 def forward(

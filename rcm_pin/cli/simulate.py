@@ -77,6 +77,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         action="store_true",
         help="continue when a joint leaves its range (recorded in the output) instead of stopping",
     )
+    p.add_argument(
+        "--backend",
+        default="python",
+        help="right-hand side: python (default, every mechanism) or compiled (one compiled "
+        "CasADi function; serial, square position task; the trajectory to the tolerances)",
+    )
     p.add_argument("--plot", type=Path, metavar="DIR", help="write the figures into DIR")
     p.set_defaults(func=cmd_simulate)
 
@@ -165,8 +171,11 @@ def cmd_simulate(args: argparse.Namespace) -> int:
                 replace(sc, limit=limit, switching=sc.switching or 0.2),
             ),
         ]
-    allow = args.allow_outside_limits
-    runs = [(label, s, run(mech, s, allow_outside_limits=allow, **law)) for label, s in plans]
+    allow, backend = args.allow_outside_limits, args.backend
+    runs = [
+        (label, s, run(mech, s, allow_outside_limits=allow, backend=backend, **law))
+        for label, s in plans
+    ]
     payload: dict[str, Any] = {
         "mechanism": mech.name,
         "scenario": name,

@@ -28,7 +28,7 @@ Efforts are clipped to ``limits`` (per drive, or one number for every drive).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 import pinocchio as pin
@@ -41,6 +41,10 @@ from rcm_pin.model.family import TaskKinematics
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import Output
 from rcm_pin.rotations import wrap_angle
+
+if TYPE_CHECKING:
+    from rcm_pin.control.closed_hot_path import ClosedLaw
+    from rcm_pin.control.hot_path import SerialLaw
 
 SPACES = ("task", "joint")
 
@@ -227,6 +231,14 @@ class ComputedTorque:
         qd[kin.joints] = np.linalg.solve(J, xd)
         qdd = np.linalg.solve(J, xdd - kin.bias(q, qd))
         return q[kin.joints], qd[kin.joints], qdd
+
+    def _hot_path(self, plant: Mechanism) -> SerialLaw | ClosedLaw:
+        """The law prepared once for :func:`~rcm_pin.control.simulate.simulate`'s
+        right-hand side (no validation, no per-call objects; :mod:`.hot_path`)."""
+        from rcm_pin.control.closed_hot_path import ClosedLaw
+        from rcm_pin.control.hot_path import SerialLaw
+
+        return SerialLaw(self) if self._kin is not None else ClosedLaw(self, plant)
 
     def effort(self, t: float, q: np.ndarray, v: np.ndarray) -> Effort:
         """Efforts of the law at (t, q, q̇), clipped to the limits."""

@@ -2,17 +2,16 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
-from rcm_pin.dynamics import constrained as cd
 from rcm_pin.model.mechanism import Mechanism
 
 if TYPE_CHECKING:
-    from rcm_pin.control.computed_torque import ComputedTorque, Effort, Gains
+    from rcm_pin.control.computed_torque import ComputedTorque, Gains
+    from rcm_pin.control.hot_path import SampledEfforts
 
 
 @dataclass(frozen=True, eq=False)
@@ -128,60 +127,40 @@ class SimulationResult:
         status: str,
         wall: float,
         nfev: int,
-        effort: Callable[[float, np.ndarray, np.ndarray], Effort],
+        at_samples: SampledEfforts,
     ) -> SimulationResult:
-        """Efforts, task values and references at every sample of a run."""
+        """The result from the efforts and task state at every sample (``at_samples``, see
+        :mod:`rcm_pin.control.hot_path`), the references and the closure residuals."""
         N = len(t)
-        tau, sat = np.zeros((N, plant.nv)), np.zeros(N, dtype=bool)
-        alt, meas, res = np.zeros(N, dtype=bool), np.full(N, np.nan), np.zeros(N)
-        dim = 0 if controller is None else controller.task_output.dim
-        x, xd = np.full((N, dim), np.nan), np.full((N, dim), np.nan)
-        for i in range(N):
-            eff = effort(t[i], q[i], v[i])
-            tau[i], sat[i], alt[i], meas[i] = (
-                eff.tau_full,
-                eff.saturated,
-                eff.alternate,
-                eff.measure,
-            )
-            if controller is not None:
-                x[i], xd[i] = cls._task_state(plant, controller, q[i], v[i])
-            if plant.loops is not None:
+        res = np.zeros(N)
+        if plant.loops is not None:
+            for i in range(N):
                 res[i] = np.max(np.abs(plant.closure_residual(q[i])))
+        dim = 0 if controller is None else controller.task_output.dim
         if controller is None:
             x_ref = xd_ref = np.full((N, dim), np.nan)
         else:
             x_ref, xd_ref = _sample(controller, t)
+        s = at_samples
         return cls(
             plant.name,
             t,
             q,
             v,
-            tau,
-            sat,
-            x,
+            s.tau,
+            s.saturated,
+            s.x,
             x_ref,
-            xd,
+            s.xd,
             xd_ref,
-            alt,
-            meas,
+            s.alternate,
+            s.measure,
             res,
             status,
             None if controller is None else controller.gains,
             wall,
             nfev,
         )
-
-    @staticmethod
-    def _task_state(
-        plant: Mechanism, controller: ComputedTorque, q: np.ndarray, v: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray]:
-        kin = controller.kinematics
-        if kin is not None:
-            return kin.position(q), kin.jacobian(q) @ v[kin.joints]
-        task = controller.task_output
-        xd, _, _ = cd.output_drift(plant, q, v, task)
-        return task.value(plant.data.oMf[task.frame_id]), xd
 
 
 def _sample(controller: ComputedTorque, t: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

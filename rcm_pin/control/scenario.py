@@ -139,9 +139,15 @@ def start_state(mech: Mechanism, sc: Scenario) -> tuple[np.ndarray | None, np.nd
 
 
 def run(
-    mech: Mechanism, sc: Scenario, *, allow_outside_limits: bool = False, **law: Any
+    mech: Mechanism,
+    sc: Scenario,
+    *,
+    allow_outside_limits: bool = False,
+    backend: str = "python",
+    **law: Any,
 ) -> SimulationResult:
-    """Simulate a scenario (module docstring); ``law`` goes to :func:`controller`.
+    """Simulate a scenario (module docstring); ``law`` goes to :func:`controller`,
+    ``backend`` to :func:`~rcm_pin.control.simulate.simulate`.
 
     Raises:
         JointLimitError: the run leaves the joint range of ``mech`` (its xacro arguments
@@ -162,6 +168,7 @@ def run(
         max_step=sc.max_step,
         stop_error=0.5 if mech.loops is None else None,
         allow_outside_limits=allow_outside_limits,
+        backend=backend,
     )
 
 

@@ -7,6 +7,13 @@ The plant integrates the state y = (q, q̇):
 * closed: the KKT system of :mod:`rcm_pin.dynamics.constrained` with Baumgarte
   stabilisation of the closures.
 
+The right-hand side and the efforts at the output samples run the prepared, unvalidated
+routes of :mod:`rcm_pin.control.hot_path` (serial) and
+:mod:`rcm_pin.control.closed_hot_path` (closed): the same formulas, checked against the
+public functions in tests; the inputs are validated once, here. ``backend="compiled"``
+runs a serial right-hand side as one compiled CasADi function instead
+(:mod:`rcm_pin.control.backends`: the same to rounding, the trajectory to the tolerances).
+
 Efforts come from a :class:`~rcm_pin.control.computed_torque.ComputedTorque` (whose model
 may differ from the plant) or are zero. The run stops at the family's stop conditions
 (leaving the regular region), when the task error exceeds ``stop_error`` and at any
@@ -28,37 +35,23 @@ from dataclasses import replace
 from typing import Any
 
 import numpy as np
-import pinocchio as pin
 from scipy.integrate import solve_ivp
 
-from rcm_pin.control.computed_torque import ComputedTorque, Effort
+from rcm_pin.control.backends import check_backend, compiled_rhs
+from rcm_pin.control.closed_hot_path import ClosedPlant
+from rcm_pin.control.computed_torque import ComputedTorque
+from rcm_pin.control.hot_path import SerialPlant, free_samples
 from rcm_pin.control.result import SimulationResult
-from rcm_pin.dynamics import constrained as cd
-from rcm_pin.dynamics.tree import solve_mass
 from rcm_pin.errors import InvalidInputError, JointLimitError
 from rcm_pin.model.family import StopEvent
 from rcm_pin.model.mechanism import Mechanism
 
+Accel = Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]
 
-class _Plant:
-    """Fast forward dynamics of a Mechanism (no per-call validation)."""
 
-    def __init__(self, mech: Mechanism, baumgarte: tuple[float, float]) -> None:
-        self.mech, self.idx, self.baumgarte = mech, mech.v_index, baumgarte
-        self.data = mech.model.createData()
-
-    def accel(self, q: np.ndarray, v: np.ndarray, tau: np.ndarray) -> np.ndarray:
-        mech = self.mech
-        if mech.loops is not None:
-            return cd.forward_dynamics(mech, q, v, tau, self.baumgarte)[0]
-        model, idx = mech.model, self.idx
-        qp = mech.to_pin(q)
-        vp = np.zeros(model.nv)
-        vp[idx] = v
-        M = np.asarray(pin.crba(model, self.data, qp, pin.Convention.WORLD))
-        M = np.triu(M) + np.triu(M, 1).T
-        b = np.asarray(pin.nonLinearEffects(model, self.data, qp, vp))
-        return solve_mass(M[np.ix_(idx, idx)], tau - b[idx])
+def _plant_accel(mech: Mechanism, baumgarte: tuple[float, float]) -> Accel:
+    """q̈(q, q̇, τ) of the plant, prepared once (no per-call validation)."""
+    return SerialPlant(mech).accel if mech.loops is None else ClosedPlant(mech, baumgarte).accel
 
 
 def initial_state(mech: Mechanism, controller: ComputedTorque) -> np.ndarray:
@@ -106,6 +99,7 @@ def simulate(
     events: Sequence[StopEvent] = (),
     baumgarte: tuple[float, float] = (50.0, 1.0),
     allow_outside_limits: bool = False,
+    backend: str = "python",
 ) -> SimulationResult:
     """Integrate the plant under a controller (or with τ = 0 when ``controller`` is None).
 
@@ -127,14 +121,17 @@ def simulate(
         baumgarte: closure stabilisation of a closed plant (ω [rad/s], ζ).
         allow_outside_limits: continue outside the joint limits and record it
             (``outside_limits`` of the result) instead of stopping.
+        backend: ``"python"`` or ``"compiled"`` (:mod:`rcm_pin.control.backends`).
 
     Raises:
-        InvalidInputError: duration ≤ 0, bad q0 / v0, or no q0 and no way to find one.
+        InvalidInputError: duration ≤ 0, bad q0 / v0, no q0 and no way to find one, an
+            unknown backend, or ``"compiled"`` where it is not available.
         JointLimitError: the run starts or gets outside the joint limits (module
             docstring), unless ``allow_outside_limits``.
     """
     if not (np.isfinite(duration) and duration > 0):
         raise InvalidInputError(f"duration {duration} is invalid; valid: > 0 [s]")
+    fast = None if check_backend(backend) == "python" else compiled_rhs(plant, controller)
     n, nv = plant.nq, plant.nv
     if q0 is None:
         if controller is None:
@@ -143,7 +140,8 @@ def simulate(
     q0 = plant.check_q(q0, "q0")
     bounds = [] if allow_outside_limits else _limit_events(plant, q0)
     v0 = np.zeros(nv) if v0 is None else plant.check_v(v0, "v0")
-    fd = _Plant(plant, baumgarte)
+    accel = _plant_accel(plant, baumgarte)
+    law = None if controller is None else controller._hot_path(plant)
     bar = None
     if progress:
         from tqdm import tqdm
@@ -154,25 +152,26 @@ def simulate(
             bar_format="{l_bar}{bar}| {n:.2f}/{total:.2f} s simulated [{elapsed}]",
         )
     shown = [0.0]
-    zero = Effort(np.zeros(nv), np.zeros(0), False, False, float("nan"))
-
-    def effort(t: float, q: np.ndarray, v: np.ndarray) -> Effort:
-        return zero if controller is None else controller.effort(t, q, v)
+    zero = np.zeros(nv)
+    tau_of = (lambda t, q, v: zero) if law is None else law.tau
+    step = duration / 200
 
     def rhs(t: float, y: np.ndarray) -> np.ndarray:
-        q, v = y[:n], y[n:]
-        if bar is not None and t > shown[0] + duration / 200:
+        if bar is not None and t > shown[0] + step:
             bar.update(round(t - shown[0], 6))
             shown[0] = t
-        return np.concatenate([v, fd.accel(q, v, effort(t, q, v).tau_full)])
+        if fast is not None:
+            return fast(t, y)
+        q, v = y[:n], y[n:]
+        return np.concatenate((v, accel(q, v, tau_of(t, q, v))))
 
     stops = list(plant.family.stop_events(plant)) if plant.loops is None else []
-    if controller is not None and stop_error is not None:
-        task, limit = controller.task_output, stop_error
+    if controller is not None and law is not None and stop_error is not None:
+        task, limit, reference = controller.task_output, stop_error, law.reference
 
         def error(t: float, q: np.ndarray, v: np.ndarray) -> float:
-            x = SimulationResult.task_value(plant, controller, q)
-            return float(limit - np.linalg.norm(controller.reference.evaluate(t)[0] - x))  # type: ignore[union-attr]
+            x = SimulationResult.task_value(plant, controller, q)  # type: ignore[arg-type]
+            return float(limit - np.linalg.norm(reference(t)[0] - x))
 
         stops.append((f"|e| > {stop_error} {'m' if not task.angular.any() else 'm, rad'}", error))
     stops += list(events)
@@ -210,8 +209,10 @@ def simulate(
         status = "stopped: " + next(nm for (nm, _), te in zip(stops, sol.t_events) if len(te))
     elif sol.status < 0:
         status = f"failed: {sol.message}"
+    q, v = np.ascontiguousarray(sol.y[:n].T), np.ascontiguousarray(sol.y[n:].T)
+    samples_at = free_samples(len(sol.t), nv) if law is None else law.samples(sol.t, q, v)
     result = SimulationResult.build(
-        plant, controller, sol.t, sol.y[:n].T, sol.y[n:].T, status, wall, int(sol.nfev), effort
+        plant, controller, sol.t, q, v, status, wall, int(sol.nfev), samples_at
     )
     if allow_outside_limits:
         result = replace(result, outside_limits=outside_limits(plant, result.t, result.q))

@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import numpy as np
 import pinocchio as pin
-from scipy.linalg import LinAlgError, cho_factor, cho_solve
+from scipy.linalg.lapack import dposv
 
 from rcm_pin.errors import InvalidInputError, SingularConfigurationError
 from rcm_pin.model.mechanism import Mechanism
@@ -144,19 +144,32 @@ def forward_dynamics(mech: Mechanism, q: np.ndarray, v: np.ndarray, tau: np.ndar
 
 
 def solve_mass(M: np.ndarray, rhs: np.ndarray) -> np.ndarray:
-    """Solve M x = rhs by Cholesky.
+    """Solve M x = rhs by Cholesky (LAPACK ``dposv``: ``potrf`` + ``potrs``, as scipy's
+    ``cho_factor`` / ``cho_solve``, in one call; reads the lower triangle).
 
     Raises:
         SingularConfigurationError: M is not positive definite.
     """
-    try:
-        factor = cho_factor(M, lower=True, check_finite=False)
-    except LinAlgError:
+    x, info = dposv(M, rhs, lower=1)[1:]
+    if info != 0:
         raise SingularConfigurationError(
             f"mass matrix is not positive definite (eigenvalues {np.linalg.eigvalsh(M)}); "
             "valid: a configuration where every coordinate moves some mass"
-        ) from None
-    return np.asarray(cho_solve(factor, rhs, check_finite=False))
+        )
+    return np.asarray(x)
+
+
+def solve_mass_upper(M: np.ndarray, rhs: np.ndarray) -> np.ndarray:
+    """Solve M x = rhs reading only the upper triangle of M (``pin.crba``'s output, no
+    symmetrisation needed): LAPACK ``dposv`` on the upper triangle.
+
+    Raises:
+        SingularConfigurationError: M is not positive definite.
+    """
+    x, info = dposv(M, rhs, lower=0)[1:]
+    if info != 0:
+        return solve_mass(np.triu(M) + np.triu(M, 1).T, rhs)  # raises with the eigenvalues
+    return np.asarray(x)
 
 
 def kinetic_energy(mech: Mechanism, q: np.ndarray, v: np.ndarray) -> float:

@@ -202,6 +202,11 @@ class Mechanism:
                 length, NaN / infinite entries or an entry beyond ``MAX_ABS``.
         """
         n = self.nq if size is None else size
+        # fast path (the hot loops' own arrays), as in q_pin: NaN, inf or a large entry
+        # fails the hypot test and takes the full checks below
+        fast = type(q) is np.ndarray and q.dtype == np.float64 and q.shape == (n,)
+        if fast and math.hypot(*q.tolist()) <= MAX_ABS:
+            return q.copy()
         arr = numeric_array(q, name)
         if arr.shape != (n,):
             what = ", ".join(self.coordinate_names) if size is None else f"{n} values"

@@ -13,6 +13,11 @@ is clipped to ``max_step`` (it keeps the iterate on its branch) and applied with
 ``pin.integrate`` (multi-DOF and continuous joints). Revolute passive angles are wrapped to
 [−π, π) at the end; prismatic joints are not.
 
+:func:`solve_passive` on a Euclidean model with a square or tall J_p also exists as a
+CasADi kernel (the same iterates to rounding, found through :mod:`rcm_pin.model.kernels`;
+provider :mod:`ocp.kernels`); :func:`rcm_pin.analysis.closed_position.solve_drives` uses
+it where it reproduces this loop and runs this loop everywhere else.
+
 Mobility: at a closed configuration the loops leave nv − rank(J_c) freedoms; the drives
 fix k of them. :func:`constraint_rank` is the numerical rank used by
 :mod:`rcm_pin.analysis.mobility` and by the velocity analysis.
@@ -34,6 +39,10 @@ from rcm_pin.rotations import wrap_angle
 RESIDUAL_TOL = 1e-13
 #: Relative singular-value threshold of the rank decisions.
 RANK_TOL = 1e-10
+#: Default iteration cap of :func:`solve_passive`.
+MAX_ITER = 60
+#: Default largest passive-joint step per iteration [rad, m].
+MAX_STEP = 0.5
 
 
 def constraint_rank(jac: np.ndarray, tol: float = RANK_TOL) -> int:
@@ -91,8 +100,8 @@ def solve_passive(
     q_drives: np.ndarray,
     q_guess: np.ndarray,
     *,
-    max_iter: int = 60,
-    max_step: float = 0.5,
+    max_iter: int = MAX_ITER,
+    max_step: float = MAX_STEP,
     name: str = "",
 ) -> tuple[np.ndarray, int, float]:
     """Newton on the closure residual with the drives fixed (module docstring).
@@ -172,6 +181,8 @@ def solve_output(
 
 
 __all__ = [
+    "MAX_ITER",
+    "MAX_STEP",
     "RANK_TOL",
     "RESIDUAL_TOL",
     "constraint_rank",

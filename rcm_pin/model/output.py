@@ -20,6 +20,7 @@ so that e → J·δq to first order: Newton on e uses the frame Jacobian rows.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -119,15 +120,15 @@ class Output:
     def value(self, oMf: pin.SE3) -> np.ndarray:
         """Value vector (size,) of a frame placement."""
         out: list[float] = []
-        R = oMf.rotation
+        R, p = oMf.rotation.tolist(), oMf.translation.tolist()  # one copy each
         for c in self.coords:
             if c in ("x", "y", "z"):
-                out.append(float(oMf.translation[_ROW[c]]))
+                out.append(p[_ROW[c]])
             elif c == "rotation":
-                out += R.reshape(9).tolist()
+                out += R[0] + R[1] + R[2]
             else:
                 i, j = {"rx": (2, 1), "ry": (0, 2), "rz": (1, 0)}[c]
-                out.append(float(np.arctan2(R[i, j], R[j, j])))
+                out.append(math.atan2(R[i][j], R[j][j]))  # np.arctan2's value, bit for bit
         return np.array(out)
 
     def error(self, value: np.ndarray, target: np.ndarray) -> np.ndarray:

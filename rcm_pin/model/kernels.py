@@ -1,0 +1,233 @@
+"""Optional fast kernels for the generic layers, found through entry points.
+
+The generic layers never import the CasADi layer ``ocp`` (import-linter contract); a
+faster implementation of one of their hot loops comes in by dependency inversion: a
+*provider* (:class:`KernelProvider`) registered in the entry-point group
+:data:`GROUP` (``[project.entry-points."rcm_pin.kernels"]`` in pyproject.toml; ``ocp``
+registers ``casadi = "ocp.kernels:provider"``) is loaded lazily on the first request and
+asked for a kernel per :class:`~rcm_pin.model.mechanism.Mechanism`; the answer (a kernel
+or None) is cached per Mechanism (a ``WeakKeyDictionary``: it goes with the Mechanism).
+A kernel is requested on a Mechanism's first solve and used from then on, so a result
+never depends on how many solves came before it (the provider keeps its costs small:
+:mod:`ocp.kernels` starts in CasADi's virtual machine and compiles only a structure that
+is used). :func:`warm` builds at once (benchmarks, tests).
+
+Kernels never change a result: a kernel answers only where it reproduces the numpy route
+(to rounding) and returns None elsewhere, and the caller then runs the numpy route from
+the same inputs, so every solution, iteration count and typed error stays as it was.
+A provider that fails to load or to build a kernel is skipped with a
+:class:`KernelWarning` (the numpy route then serves).
+
+Kernel kinds:
+
+* :meth:`KernelProvider.closure_newton` -> :class:`ClosureNewton`: the drives-fixed
+  Newton of :func:`rcm_pin.model.newton.solve_passive` (used by
+  :func:`rcm_pin.analysis.closed_position.solve_drives`).
+* :meth:`KernelProvider.serial_rhs` -> :class:`SerialRHS`: the whole right-hand side of a
+  serial :func:`rcm_pin.control.simulate.simulate` (plant + computed-torque law), cached
+  per (plant, controller) pair by :func:`serial_rhs`. The one kind that does not promise
+  the numpy route's result: it equals the hot path's right-hand side to rounding, which
+  changes the integrator's step sequence and so the trajectory at the integration
+  tolerance; ``simulate`` uses it only on request (``backend="compiled"``).
+
+Switches: the environment variable :data:`DISABLE_ENV` (``RCM_PIN_NO_KERNELS=1``, read
+at import), :func:`set_enabled` and the context manager :func:`disabled` (tests compare
+both routes with it).
+"""
+
+from __future__ import annotations
+
+import os
+import threading
+import warnings
+import weakref
+from collections.abc import Iterator
+from contextlib import contextmanager
+from importlib.metadata import entry_points
+from typing import NamedTuple, Protocol
+
+import numpy as np
+
+from rcm_pin.model.mechanism import Mechanism
+
+#: Entry-point group of the providers.
+GROUP = "rcm_pin.kernels"
+#: Environment variable that disables every kernel (any value but "" and "0").
+DISABLE_ENV = "RCM_PIN_NO_KERNELS"
+
+
+class KernelWarning(UserWarning):
+    """A provider could not be loaded or could not build a kernel (numpy serves)."""
+
+
+class NewtonOutcome(NamedTuple):
+    """A converged closure Newton: q (nq,) with passive revolute angles wrapped to
+    [−π, π), the iterations taken, the final residual norm [m, rad]."""
+
+    q: np.ndarray
+    iterations: int
+    residual: float
+
+
+class ClosureNewton(Protocol):
+    """Newton on the closure residual with the drives fixed, from a full start."""
+
+    def __call__(
+        self, q_guess: np.ndarray, drives: np.ndarray, *, max_iter: int, max_step: float
+    ) -> NewtonOutcome | None:
+        """The numpy route's converged outcome from ``q_guess`` (nq,) with ``drives`` (k,)
+        [rad, m] (each step clipped to ``max_step``, at most ``max_iter`` steps), or None
+        where the kernel cannot reproduce it (the caller then runs the numpy route)."""
+        ...
+
+
+class SerialRHS(Protocol):
+    """y' = (q̇, q̈) of a serial plant under a controller, the reference as input."""
+
+    def __call__(self, y: np.ndarray, r: np.ndarray | list[float]) -> np.ndarray:
+        """y' (n + nv,) at y = (q, q̇) with the reference r = (x_T, ẋ_T, ẍ_T) (3 dim,):
+        a new array [rad/s, m/s; rad/s², m/s²]."""
+        ...
+
+
+class KernelProvider(Protocol):
+    """What an entry point of :data:`GROUP` names."""
+
+    def closure_newton(self, mech: Mechanism) -> ClosureNewton | None:
+        """A closure Newton kernel for ``mech``, or None (not supported)."""
+        ...
+
+    def serial_rhs(self, plant: Mechanism, controller: object) -> SerialRHS | None:
+        """A right-hand side kernel of ``plant`` under ``controller`` (a
+        ``ComputedTorque``), or None (not supported). Optional: a provider without
+        this method has no such kernel."""
+        ...
+
+
+_enabled = os.environ.get(DISABLE_ENV, "") in ("", "0")
+_providers: tuple[KernelProvider, ...] | None = None
+#: per Mechanism: its kernel, or None (no provider has one)
+_newton: weakref.WeakKeyDictionary[Mechanism, ClosureNewton | None] = weakref.WeakKeyDictionary()
+_lock = threading.RLock()
+
+
+def enabled() -> bool:
+    """Whether kernels are used."""
+    return _enabled
+
+
+def set_enabled(flag: bool) -> bool:
+    """Use kernels (True) or the numpy routes only (False); returns the previous setting."""
+    global _enabled
+    previous, _enabled = _enabled, bool(flag)
+    return previous
+
+
+@contextmanager
+def disabled() -> Iterator[None]:
+    """The numpy routes only, inside the ``with`` block."""
+    previous = set_enabled(False)
+    try:
+        yield
+    finally:
+        set_enabled(previous)
+
+
+def providers() -> tuple[KernelProvider, ...]:
+    """The providers of :data:`GROUP`, loaded once (sorted by entry-point name)."""
+    global _providers
+    with _lock:
+        if _providers is None:
+            loaded = []
+            for ep in sorted(entry_points(group=GROUP), key=lambda e: e.name):
+                try:
+                    loaded.append(ep.load())
+                except Exception as exc:  # an optional accelerator: numpy serves
+                    msg = f"kernel provider {ep.value!r} not loaded: {exc}"
+                    warnings.warn(msg, KernelWarning, stacklevel=2)
+            _providers = tuple(loaded)
+        return _providers
+
+
+def closure_newton(mech: Mechanism) -> ClosureNewton | None:
+    """The closure Newton kernel of ``mech`` (first provider that has one), or None when
+    kernels are disabled or none applies. Built on the first request, then cached."""
+    if not _enabled:
+        return None
+    try:
+        return _newton[mech]
+    except KeyError:
+        return warm(mech)
+
+
+def warm(mech: Mechanism) -> ClosureNewton | None:
+    """Build (or look up) the closure Newton kernel of ``mech`` now; None if none applies."""
+    with _lock:
+        if mech not in _newton:
+            _newton[mech] = _first_kernel(mech)
+        return _newton[mech]
+
+
+def _first_kernel(mech: Mechanism) -> ClosureNewton | None:
+    for p in providers():
+        try:
+            kernel = p.closure_newton(mech)
+        except Exception as exc:  # an optional accelerator: numpy serves
+            msg = f"{mech.name}: closure Newton kernel not built: {exc}"
+            warnings.warn(msg, KernelWarning, stacklevel=3)
+            continue
+        if kernel is not None:
+            return kernel
+    return None
+
+
+#: per plant, per controller: the right-hand side kernel, or None
+_serial: weakref.WeakKeyDictionary[Mechanism, weakref.WeakKeyDictionary[object, SerialRHS | None]]
+_serial = weakref.WeakKeyDictionary()
+
+
+def serial_rhs(plant: Mechanism, controller: object) -> SerialRHS | None:
+    """The right-hand side kernel of ``plant`` under ``controller`` (first provider that
+    has one), or None when kernels are disabled or none applies. Built on the first
+    request (compiled, or loaded from the disk cache), then cached per pair."""
+    if not _enabled:
+        return None
+    with _lock:
+        per_plant = _serial.setdefault(plant, weakref.WeakKeyDictionary())
+        if controller not in per_plant:
+            per_plant[controller] = _first_serial_rhs(plant, controller)
+        return per_plant[controller]
+
+
+def _first_serial_rhs(plant: Mechanism, controller: object) -> SerialRHS | None:
+    for p in providers():
+        build = getattr(p, "serial_rhs", None)
+        if build is None:
+            continue
+        try:
+            kernel = build(plant, controller)
+        except Exception as exc:  # an optional accelerator: the Python hot path serves
+            msg = f"{plant.name}: serial right-hand side kernel not built: {exc}"
+            warnings.warn(msg, KernelWarning, stacklevel=3)
+            continue
+        if kernel is not None:
+            return kernel  # type: ignore[no-any-return]
+    return None
+
+
+__all__ = [
+    "DISABLE_ENV",
+    "GROUP",
+    "ClosureNewton",
+    "KernelProvider",
+    "KernelWarning",
+    "NewtonOutcome",
+    "SerialRHS",
+    "closure_newton",
+    "disabled",
+    "enabled",
+    "providers",
+    "serial_rhs",
+    "set_enabled",
+    "warm",
+]
