@@ -168,3 +168,16 @@ def test_point_jacobian_and_bias_equal_pinocchio(name):
         np.testing.assert_allclose(point_jacobian(q), tool_jacobian(mech, q)[:3, :3], atol=1e-12)
         h = jacobian_derivative(mech, q, v)[:3] @ v
         np.testing.assert_allclose(point_bias(q, v), h, atol=1e-12)
+
+
+def test_point_kinematics_batch_equals_the_one_state_functions():
+    """The vectorised p, J, h of the output samples against the one-state closed forms."""
+    from rcm_pin.mechanisms.rcm.point import point_kinematics
+
+    rng = np.random.default_rng(11)
+    q, v = rng.uniform(-3, 3, (500, 6)), rng.uniform(-5, 5, (500, 6))
+    p, J, h = point_kinematics(q, v)
+    np.testing.assert_array_equal(p, [point_position(qi) for qi in q])
+    np.testing.assert_array_equal(J, [point_jacobian(qi) for qi in q])
+    expected = np.array([point_bias(qi, vi) for qi, vi in zip(q, v)])
+    np.testing.assert_allclose(h, expected, rtol=1e-14, atol=1e-14 * np.abs(expected).max())

@@ -198,17 +198,22 @@ class SerialLaw:
 
     def samples(self, t: np.ndarray, q: np.ndarray, v: np.ndarray) -> SampledEfforts:
         """Efforts, saturation flags, task values and rates at the output samples: the
-        law's formulas on all samples at once; the family's closed forms, the joint
-        reference and RNEA (one state per call) per sample."""
+        law's formulas on all samples at once; the family's closed forms (vectorised when
+        the family gives ``batch``), the joint reference and RNEA (one state per call)
+        per sample."""
         N, cols, kin, ctrl = len(t), self.cols, self.kin, self.ctrl
         dim, k = ctrl.task_output.dim, self.ncols
-        x = np.array([kin.position(qi) for qi in q]).reshape(N, dim)
-        J = np.array([kin.jacobian(qi) for qi in q]).reshape(N, dim, k)
+        if kin.batch is not None:
+            x, J, h = kin.batch(q, v)
+        else:
+            x = np.array([kin.position(qi) for qi in q]).reshape(N, dim)
+            J = np.array([kin.jacobian(qi) for qi in q]).reshape(N, dim, k)
         xd = np.einsum("nij,nj->ni", J, v[:, cols])
         qdd = -self.kn * (q - self.posture) - self.kc * v  # hold the others at the posture
         if self.task_space:
             x_t, v_t, a_t = reference_samples(ctrl.reference, t)
-            h = np.array([kin.bias(qi, vi) for qi, vi in zip(q, v)]).reshape(N, dim)
+            if kin.batch is None:
+                h = np.array([kin.bias(qi, vi) for qi, vi in zip(q, v)]).reshape(N, dim)
             e = (
                 np.array([ctrl._task_error(a, b) for a, b in zip(x_t, x)]).reshape(N, dim)
                 if self.angular

@@ -72,6 +72,9 @@ class TaskKinematics:
         jacobian: q -> ∂x/∂q_joints (dim, len(joints)).
         bias: (q, q̇) -> J̇ q̇ (dim,).
         inverse: task value -> q_joints of the principal branch (None: not available).
+        batch: (q (N, n), q̇ (N, nv)) -> (x (N, dim), J (N, dim, len(joints)), J̇ q̇
+            (N, dim)) vectorised over states, the same values as the three one-state
+            functions (None: they are called per state).
     """
 
     joints: np.ndarray
@@ -79,6 +82,9 @@ class TaskKinematics:
     jacobian: Callable[[np.ndarray], np.ndarray]
     bias: Callable[[np.ndarray, np.ndarray], np.ndarray]
     inverse: Callable[[np.ndarray], np.ndarray] | None = None
+    batch: Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]] | None = (
+        None
+    )
 
 
 class Family:

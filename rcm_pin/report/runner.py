@@ -87,6 +87,7 @@ def _graph() -> object:
     return grimp.build_graph("rcm_pin", "ocp", cache_dir=None)
 
 
+@lru_cache(maxsize=None)
 def _module_file(module: str) -> Path | None:
     """The source file of a module of ``rcm_pin`` or ``ocp`` (or one already imported),
     found without importing it (importing would run a package's whole ``__init__``)."""
@@ -117,6 +118,7 @@ def cache_key(module: str) -> str:
     return digest.hexdigest()
 
 
+@lru_cache(maxsize=None)
 def _version(package: str) -> str:
     try:
         return metadata.version(package)

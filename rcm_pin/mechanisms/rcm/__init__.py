@@ -109,6 +109,7 @@ class RcmFamily(Family):
             point.point_jacobian,
             point.point_bias,
             point.point_ik,
+            point.point_kinematics,
         )
 
     def accuracy_report(self, mech: Mechanism, q: np.ndarray) -> dict[str, Any] | None:
