@@ -25,7 +25,7 @@ if find_chromium() is None and not os.environ.get("CI"):
 
 def _render(viewer: Viewer, tmp_path, name: str) -> np.ndarray:
     page = viewer.save_html(tmp_path / f"{name}.html", controls=False)
-    png = screenshot_html(page, tmp_path / f"{name}.png", SIZE, budget_ms=1500)
+    png = screenshot_html(page, tmp_path / f"{name}.png", SIZE)
     return np.asarray(Image.open(png).convert("RGB"), dtype=int)
 
 

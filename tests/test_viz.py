@@ -267,3 +267,35 @@ def test_report_section_fallback(tmp_path, monkeypatch):
     assert result.title == "Scenes" and len(result.figures) == len(SCENES)
     assert all((tmp_path / f).stat().st_size > 10_000 for f in result.figures)
     assert result.body.count("URDF visual geometry shaded by matplotlib") == len(SCENES)
+
+
+def test_a_chromium_past_its_timeout_is_ended_with_its_processes(tmp_path, monkeypatch):
+    """A browser that never finishes: a typed error after the timeout, and no process of
+    its session left running (the renderers included)."""
+    import os
+    import stat
+    import time
+
+    import rcm_pin.viz.snapshot as snapshot_module
+
+    fake = tmp_path / "chromium"
+    pids = tmp_path / "pids"
+    fake.write_text(f"#!/bin/sh\nsleep 60 &\necho $! > {pids}\nsleep 60\n")
+    fake.chmod(fake.stat().st_mode | stat.S_IEXEC)
+    monkeypatch.setenv("RCM_PIN_CHROMIUM", str(fake))
+    page = tmp_path / "page.html"
+    page.write_text("<html></html>")
+    start = time.perf_counter()
+    late = r"^Chromium took longer than 1\.0 s on "
+    with pytest.raises(snapshot_module.SnapshotError, match=late):
+        snapshot_module.screenshot_html(page, tmp_path / "x.png", timeout=1.0)
+    assert time.perf_counter() - start < 10.0
+    child = int(pids.read_text())
+    for _ in range(50):  # the kill is immediate; the kernel may take a moment to reap
+        try:
+            os.kill(child, 0)
+        except ProcessLookupError:
+            break
+        time.sleep(0.05)
+    else:
+        raise AssertionError(f"the child process {child} of the fake browser still runs")

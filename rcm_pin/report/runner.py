@@ -30,7 +30,7 @@ import time
 from collections.abc import Callable, Iterator
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import asdict, dataclass
-from functools import lru_cache
+from functools import cache, lru_cache
 from importlib import metadata
 from multiprocessing import get_all_start_methods, get_context
 from pathlib import Path
@@ -87,7 +87,7 @@ def _graph() -> object:
     return grimp.build_graph("rcm_pin", "ocp", cache_dir=None)
 
 
-@lru_cache(maxsize=None)
+@cache
 def _module_file(module: str) -> Path | None:
     """The source file of a module of ``rcm_pin`` or ``ocp`` (or one already imported),
     found without importing it (importing would run a package's whole ``__init__``)."""
@@ -118,7 +118,7 @@ def cache_key(module: str) -> str:
     return digest.hexdigest()
 
 
-@lru_cache(maxsize=None)
+@cache
 def _version(package: str) -> str:
     try:
         return metadata.version(package)
