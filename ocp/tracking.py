@@ -108,7 +108,6 @@ class TrackingOCP(TrackingGrid):
         posture_w = np.zeros(n) if posture_weights is None else np.asarray(posture_weights, float)
         self.drive_limits, self.velocity_limits = drive_limits, velocity_limits
         self.nx, self.nu = 2 * n, n * d
-        self.n_path = n * d * (int(drive_limits) + int(velocity_limits))
         self._cost = StageCost(float(position_weight), posture_w, float(effort_weight))
         self.stage, self.outputs = tracking_stage(
             sm, self.fid, self.col, self._cost, drive_limits, velocity_limits

@@ -66,6 +66,11 @@ def vm_function(mech: Mechanism, key: str) -> ca.Function:
     return fun
 
 
+def _vm_only() -> bool:
+    """Whether ``$RCM_PIN_KERNEL_VM`` keeps the kernels in CasADi's VM."""
+    return os.environ.get(VM_ENV, "") not in ("", "0")
+
+
 class CasadiKernels:
     """The kernel provider (module docstring)."""
 
@@ -82,7 +87,7 @@ class CasadiKernels:
         with self._lock:
             shared = self._shared.get(key)
             if shared is None:
-                vm_only = os.environ.get(VM_ENV, "") not in ("", "0")
+                vm_only = _vm_only()
                 fun = vm_function(mech, key)
                 shared = self._shared[key] = SharedFunction(
                     fun, key, None if vm_only else COMPILE_AFTER
@@ -107,7 +112,7 @@ class CasadiKernels:
     def serial_rhs(self, plant: Mechanism, controller: object) -> SerialRHSKernel | None:
         """The compiled right-hand side of ``plant`` under ``controller``, or None where
         it does not mirror the Python hot path (:mod:`ocp.kernels.serial_rhs`)."""
-        return serial_rhs(plant, controller, vm=os.environ.get(VM_ENV, "") not in ("", "0"))
+        return serial_rhs(plant, controller, vm=_vm_only())
 
 
 def same_residual(mech: Mechanism, fun: ca.Function, tol: float = 1e-9) -> bool:

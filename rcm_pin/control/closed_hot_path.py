@@ -33,10 +33,6 @@ if TYPE_CHECKING:
     from rcm_pin.control.computed_torque import ComputedTorque
 
 
-def _has_mimic(model: pin.Model) -> bool:
-    return any(model.joints[j].shortname() == "JointModelMimic" for j in range(1, model.njoints))
-
-
 class KinematicsPass:
     """Closure rows and output rows of a closed Mechanism from one kinematics pass."""
 
@@ -92,7 +88,8 @@ class ClosedPlant:
     def __init__(self, mech: Mechanism, baumgarte: tuple[float, float]) -> None:
         self.kin = KinematicsPass(mech, mech.output)
         self.model, self.data = self.kin.model, self.kin.data
-        self.convention = (pin.Convention.WORLD,) if _has_mimic(mech.model) else ()
+        # crba's convention as rcm_pin.dynamics.tree.mass_matrix_pin chooses it
+        self.convention = (pin.Convention.WORLD,) if mech.coupling.has_mimic else ()
         self.w, self.z = baumgarte
         self.n = mech.model.nv
 

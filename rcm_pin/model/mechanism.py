@@ -37,6 +37,18 @@ from rcm_pin.model.output import Output
 from rcm_pin.rotations import MAX_ABS, check_magnitude, numeric_array
 
 
+def _plain_vector(q: Any, n: int) -> bool:
+    """Whether ``q`` is a float64 (n,) array passing the checks of
+    :meth:`Mechanism.check_q` at a glance: one ``math.hypot`` (it never overflows) fails on
+    NaN, inf or a large entry, which then take the full checks and their messages."""
+    return (
+        type(q) is np.ndarray
+        and q.dtype == np.float64
+        and q.shape == (n,)
+        and math.hypot(*q.tolist()) <= MAX_ABS
+    )
+
+
 @dataclass(frozen=True)
 class RcmSpec:
     """The remote centre A and the axis that must pass through it.
@@ -187,9 +199,7 @@ class Mechanism:
         Raises:
             InvalidInputError: wrong shape or NaN / infinite entries.
         """
-        if not (type(q) is np.ndarray and q.shape == (self.nq,) and q.dtype == np.float64):
-            q = self.check_q(q)
-        elif not math.hypot(*q) <= MAX_ABS:  # NaN, inf or a large entry (hypot never overflows)
+        if not _plain_vector(q, self.nq):
             q = self.check_q(q)  # raises with the full message, or accepts a long vector
         return q if self.identity_order else self.to_pin(q)
 
@@ -202,10 +212,7 @@ class Mechanism:
                 length, NaN / infinite entries or an entry beyond ``MAX_ABS``.
         """
         n = self.nq if size is None else size
-        # fast path (the hot loops' own arrays), as in q_pin: NaN, inf or a large entry
-        # fails the hypot test and takes the full checks below
-        fast = type(q) is np.ndarray and q.dtype == np.float64 and q.shape == (n,)
-        if fast and math.hypot(*q.tolist()) <= MAX_ABS:
+        if _plain_vector(q, n):  # the hot loops' own arrays (as in q_pin)
             return q.copy()
         arr = numeric_array(q, name)
         if arr.shape != (n,):
