@@ -42,13 +42,10 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def payload(track: Any) -> dict[str, Any]:
     """The JSON document of a :class:`~rcm_pin.studies.rcm_comparison.RcmTrack`."""
-    from rcm_pin.control.rcm_task import line_distance
-    from rcm_pin.studies.rcm_metrics import fk_shaft
+    from rcm_pin.studies.rcm_metrics import errors
 
     s = track.setup
-    p_s, a, tip = fk_shaft(s.mech, s.tool, track.q)
-    rcm = line_distance(p_s, a, np.asarray(s.tool.trocar))
-    tip_err = np.linalg.norm(tip - track.p_ref, axis=1)
+    rcm, tip_err = errors(track)
     return {
         "name": s.mech.name,
         "path": track.path,
