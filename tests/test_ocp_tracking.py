@@ -56,7 +56,8 @@ def test_exact_solution_tracks_the_reference():
 
 def test_ocp_recovers_the_exact_solution(feasible):
     ocp, mech, res = feasible
-    assert res.success and res.iterations < 20
+    assert res.success and res.status == "Solve_Succeeded"
+    assert np.all(np.abs(res.tau) <= mech.model.effortLimit)  # the limits do not bind
     assert res.tracking_error < 1e-9
     exact = paper.discrete_exact(ocp, mech)  # analytic IK + RNEA on the collocation grid
     assert np.abs(res.q_colloc - exact.q).max() < 1e-6

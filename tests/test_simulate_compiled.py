@@ -140,7 +140,8 @@ def test_a_compiled_run_is_the_python_run_at_the_integration_tolerance() -> None
     # the samples are recomputed by the Python hot path from the states of either run
     np.testing.assert_array_equal(fast.t, py.t)
     np.testing.assert_allclose(fast.x, py.x, rtol=0, atol=Q_TOL)
-    assert fast.nfev != py.nfev  # another step sequence: why the runs are not bitwise equal
+    # the runs may take other steps (the right-hand sides differ by rounding): hence the
+    # integration tolerances above, not bitwise equality, and no claim on nfev either way
 
 
 def test_the_backend_option_is_validated() -> None:

@@ -89,8 +89,11 @@ def test_small_solve_is_numpys_and_refuses_a_singular_matrix() -> None:
     rng = np.random.default_rng(4)
     A, rhs = rng.normal(size=(5, 5)), rng.normal(size=5)
     np.testing.assert_allclose(solve(A, rhs), np.linalg.solve(A, rhs), rtol=RTOL)
-    with pytest.raises(np.linalg.LinAlgError, match="Singular matrix"):
+    with pytest.raises(np.linalg.LinAlgError) as ours:
         solve(np.ones((2, 2)), np.ones(2))
+    with pytest.raises(np.linalg.LinAlgError) as numpys:  # numpy's own error, its own words
+        np.linalg.solve(np.ones((2, 2)), np.ones(2))
+    assert str(ours.value) == str(numpys.value)
 
 
 def test_pinocchio_order_maps_agree_with_the_mechanism(bevel: rcm_pin.Mechanism) -> None:

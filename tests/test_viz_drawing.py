@@ -2,8 +2,6 @@
 
 from __future__ import annotations
 
-import time
-
 import numpy as np
 import pinocchio as pin
 import pytest
@@ -55,21 +53,21 @@ def _solid(img: np.ndarray) -> float:
 
 @pytest.fixture(scope="module", params=rcm_pin.names())
 def scene(request, tmp_path_factory):
-    """(viewer, png, seconds) of the fallback picture of each catalogue mechanism."""
+    """(viewer, png) of the fallback picture of each catalogue mechanism."""
     mech = rcm_pin.load(request.param)
     png = tmp_path_factory.mktemp("drawing") / f"{request.param}.png"
     with Viewer(mech, snapshot_style=True) as viewer:
-        t0 = time.perf_counter()
         fallback_png(mech, viewer.q, png, size=SIZE, camera=viewer.camera,
                      geom=viewer.viz.visual_model)  # fmt: skip
-        yield viewer, png, time.perf_counter() - t0
+        yield viewer, png
 
 
-def test_picture_size_time_and_bodies(scene):
-    viewer, png, seconds = scene
+def test_picture_size_and_bodies(scene):
+    """Its size, filled areas and material colours (no wall-clock bound: the time a
+    picture takes measures the machine, not the drawing)."""
+    viewer, png = scene
     img = _image(png)
     assert img.shape == (SIZE[1], SIZE[0], 3)
-    assert seconds < 5.0, f"{seconds:.2f} s for one picture"
     has_bodies = viewer.viz.visual_model.ngeoms > 0
     assert _solid(img) > (0.005 if has_bodies else 0.002), f"solid area {_solid(img):.3f}"
     if has_bodies:  # the URDF material colours show (shaded, so darker or equal)
@@ -83,7 +81,7 @@ def test_picture_size_time_and_bodies(scene):
 
 
 def test_markers_where_the_camera_projects_them(scene):
-    viewer, png, _ = scene
+    viewer, png = scene
     mech, img = viewer.mech, _image(png)
     data = mech.model.createData()
     pin.forwardKinematics(mech.model, data, mech.to_pin(viewer.q))
