@@ -67,3 +67,21 @@ for name in names:
     )
     assert worst < 1e-9, f"{name}: an ik solution misses the fk output by {worst:.1e}"
 print(f"wheel smoke test: {len(names)} mechanisms from {site.parent}")
+
+# -- the core install (no extra): the commands a user runs first work without any extra ---------
+q = "--q=0.1,0.2,0.08,0,0.3,0"
+for argv in (
+    ["singularities", "rcm_bevel", q],
+    ["simulate", "rcm_bevel", "--duration", "0.05", "--arg", "q3_upper=0.3"],
+    ["ocp", "ik", "rcm_bevel", "--xyz", "0.02,-0.03,0.09"],
+):
+    cli(*argv)
+    print(f"core install: rcm-pin {' '.join(argv)} ok")
+# ... and a feature whose extra is missing exits 2 naming the install command
+sweep = ["sweep", "rcm_bevel", "--vary", "q2_limit=0.8:1.4:2", "--metric", "cone_coverage",
+         "--out", "sweep-out", "--json"]  # fmt: skip
+proc = subprocess.run([str(exe), *sweep], capture_output=True, text=True, timeout=600)
+error = json.loads(proc.stdout)["error"]
+assert proc.returncode == 2 and error["type"] == "MissingExtraError", (proc.returncode, error)
+assert "pip install 'rcm-pin[design]'" in error["message"], error
+print(f"core install: rcm-pin sweep exits 2: {error['message']}")

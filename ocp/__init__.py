@@ -15,10 +15,44 @@ inverse-kinematics NLPs and trajectory-tracking OCPs built from it.
   000's example;
 """
 
-from ocp.ik import IKProblem, IKResult, solve_ik
-from ocp.ik_constraints import AxisThroughPoint, OrientationCone
-from ocp.symbolic import SymbolicModel
-from ocp.tracking import TrackingOCP, TrackingResult
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from ocp.ik import IKProblem, IKResult, solve_ik
+    from ocp.ik_constraints import AxisThroughPoint, OrientationCone
+    from ocp.symbolic import SymbolicModel
+    from ocp.tracking import TrackingOCP, TrackingResult
+
+#: The re-exports, imported on first access (PEP 562): the closure kernels
+#: (:mod:`ocp.kernels`, loaded on a closed mechanism's first solve) need neither the IK
+#: nor the tracking layer.
+_LAZY = {
+    "AxisThroughPoint": "ik_constraints",
+    "IKProblem": "ik",
+    "IKResult": "ik",
+    "OrientationCone": "ik_constraints",
+    "SymbolicModel": "symbolic",
+    "TrackingOCP": "tracking",
+    "TrackingResult": "tracking",
+    "solve_ik": "ik",
+}
+
+
+def __getattr__(name: str) -> Any:
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"{__name__}.{module}"), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_LAZY})
+
 
 __all__ = [
     "AxisThroughPoint",

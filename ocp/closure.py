@@ -37,7 +37,6 @@ from typing import Any
 
 import casadi as ca
 import numpy as np
-from scipy.linalg import qr
 
 from ocp.kinematics import Sym
 from ocp.symbolic import SymbolicModel
@@ -69,6 +68,8 @@ def independent_rows(jacobian: np.ndarray) -> list[int]:
     if jacobian.shape[0] == 0:
         return []
     rank = constraint_rank(jacobian)
+    from scipy.linalg import qr  # lazy: the closure kernels load this module at start-up
+
     _, _, piv = qr(jacobian.T, mode="economic", pivoting=True)
     return sorted(int(i) for i in piv[:rank])
 

@@ -2,9 +2,16 @@
 
 Every error the toolkit raises on bad input derives from :class:`RcmPinError`, so a
 caller can catch one class. Each message says what was wrong and what is valid.
+
+Optional features come with extras of the ``rcm-pin`` distribution (:data:`EXTRAS`);
+:func:`require` imports a package of an extra or raises :class:`MissingExtraError`
+with the install command.
 """
 
 from __future__ import annotations
+
+import importlib
+import types
 
 
 class RcmPinError(Exception):
@@ -57,9 +64,51 @@ class SolverError(RcmPinError, RuntimeError):
     """A numerical solver that failed to converge or reported infeasibility."""
 
 
+class MissingExtraError(RcmPinError, ImportError):
+    """An optional package that a feature needs is not installed (an extra of rcm-pin);
+    the message names the package, the feature and the ``pip install`` command."""
+
+
+#: The extras of the ``rcm-pin`` distribution (pyproject.toml) -> the feature they enable.
+EXTRAS = {
+    "design": "design studies (rcm-pin sweep / optimize)",
+    "arms": "the programmable RCM on arms (rcm-pin rcm-track on an arm)",
+    "report": "the import-graph section cache of rcm-pin reproduce",
+}
+#: Distribution names of the optional modules whose import name differs.
+_DISTRIBUTIONS = {"pink": "pin-pink", "distributed": "dask[distributed]"}
+
+
+def require(extra: str, module: str) -> types.ModuleType:
+    """``module`` imported, or a :class:`MissingExtraError` naming the extra to install.
+
+    Args:
+        extra: the extra of rcm-pin that provides the module (a key of :data:`EXTRAS`).
+        module: the module to import, e.g. ``"pandas"`` or ``"pink.tasks"``.
+
+    Raises:
+        MissingExtraError: the module (or a package it needs) cannot be imported, e.g.
+            "pandas, needed for design studies (rcm-pin sweep / optimize), is not installed;
+            valid: pip install 'rcm-pin[design]'".
+    """
+    try:
+        return importlib.import_module(module)
+    except ImportError as exc:
+        top = module.partition(".")[0]
+        package = _DISTRIBUTIONS.get(top, top)
+        missing = isinstance(exc, ModuleNotFoundError) and exc.name in (top, module)
+        what = "is not installed" if missing else f"cannot be imported ({exc})"
+        raise MissingExtraError(
+            f"{package}, needed for {EXTRAS[extra]}, {what}; valid: pip install 'rcm-pin[{extra}]'",
+            name=module,
+        ) from exc
+
+
 __all__ = [
+    "EXTRAS",
     "InvalidInputError",
     "JointLimitError",
+    "MissingExtraError",
     "NotARotationError",
     "RcmPinError",
     "SingularConfigurationError",
@@ -69,4 +118,5 @@ __all__ = [
     "UnknownMechanismError",
     "UnreachablePoseError",
     "XacroArgumentError",
+    "require",
 ]

@@ -79,3 +79,20 @@ def test_closed_and_arm_scenes_drawn(name, tmp_path):
         col, row = np.round(viewer.project(a, SIZE)[0]).astype(int)
         window = _reddish(img[row - 10 : row + 11, col - 10 : col + 11])
         assert window.sum() >= 10, f"no red cut marker near pixel ({col}, {row})"
+
+
+def test_side_by_side_page_draws_every_pane(tmp_path):
+    """The report's page of several Meshcat viewers (one JavaScript copy, gzip-compressed
+    commands inflated by the browser): every pane gets its blue Meshcat background and a
+    robot drawn over it (a pane that failed shows the white page and an error text)."""
+    from rcm_pin.report.programmable_rcm import side_by_side
+    from rcm_pin.studies.rcm_comparison import make_setup, run
+
+    tracks = [run(make_setup(name), "circle", duration=0.2) for name in ("rcm_bevel", "ur5")]
+    page = side_by_side(tracks, tmp_path / "side_by_side.html")
+    png = screenshot_html(page, tmp_path / "side_by_side.png", (1200, 500))
+    img = np.asarray(Image.open(png).convert("RGB"), dtype=int)
+    for pane in (img[40:, 10:590], img[40:, 610:1190]):
+        r, b = pane[..., 0], pane[..., 2]
+        assert (b - r > 40).mean() > 0.3, "no Meshcat background: the pane did not load"
+        assert (r > b - 10).mean() > 0.01, "no robot drawn over the background"

@@ -1,4 +1,5 @@
-"""Generated documentation never goes stale: the module table of docs/architecture.md."""
+"""Documentation never goes stale: the module table of docs/architecture.md, the closed
+mechanisms of docs/conventions.md and the README's notebook list."""
 
 from __future__ import annotations
 
@@ -17,3 +18,24 @@ def test_the_module_table_lists_every_module_with_its_docstring():
         check=False,
     )
     assert done.returncode == 0, done.stdout + done.stderr
+
+
+def test_the_conventions_name_every_closed_catalogue_mechanism():
+    """docs/conventions.md lists the closed mechanisms (the catalogue's ``closed`` kind:
+    families with loop closures) where it explains the cut-open tree."""
+    import rcm_pin
+
+    text = (ROOT / "docs" / "conventions.md").read_text()
+    closed = [e.name for e in rcm_pin.catalogue() if e.kind == "closed"]
+    assert len(closed) >= 7
+    missing = [name for name in closed if f"`{name}`" not in text]
+    assert not missing, f"docs/conventions.md does not name {missing}"
+
+
+def test_the_readme_names_every_notebook():
+    """The README's notebook list names each notebook of notebooks/ (by file stem)."""
+    text = (ROOT / "README.md").read_text()
+    notebooks = sorted(p.stem for p in (ROOT / "notebooks").glob("*.ipynb"))
+    assert len(notebooks) >= 10
+    missing = [stem for stem in notebooks if f"`{stem}`" not in text]
+    assert not missing, f"README.md does not name the notebooks {missing}"

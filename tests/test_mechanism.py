@@ -182,3 +182,27 @@ def test_check_q_fast_path_keeps_the_full_checks(q, message):
         out = mech.check_q(arr)
         assert out is not arr
         np.testing.assert_array_equal(out, arr)
+
+
+def test_mechanism_repr_is_a_short_summary():
+    """Printing a Mechanism names it, its family, joints, frames and closures, never the
+    URDF text (the dataclass repr used to print the whole file, ~20 KB)."""
+    assert repr(rcm_pin.load("rcm_bevel")) == (
+        "Mechanism(name='rcm_bevel', family='rcm', "
+        "coordinates='pair4 pair7 pair24 pair23 pair26 pair27', tool_frame='tool', "
+        "rcm_frame='rcm', closures=None)"
+    )
+    assert repr(rcm_pin.load("five_bar")) == (
+        "Mechanism(name='five_bar', family='five_bar', coordinates='A1 B1 A2 B2', "
+        "output_frame='tip_1', closures='1 × 3d', drives='A1 A2')"
+    )
+    assert "args={'l9': '0.25'}" in repr(rcm_pin.load("rcm_bevel", l9=0.25))
+
+
+@pytest.mark.parametrize("name", rcm_pin.names())
+def test_every_catalogue_repr_is_short(name):
+    mech = rcm_pin.load(name)
+    text = repr(mech)
+    assert len(text) < 400, text
+    assert "<robot" not in text and "\n" not in text
+    assert str(mech) == text

@@ -5,8 +5,10 @@ Pinocchio); the study's typed errors."""
 from __future__ import annotations
 
 import json
+from pathlib import Path
 
 import numpy as np
+import pinocchio as pin
 import pytest
 import yourdfpy
 
@@ -166,9 +168,70 @@ def test_rcm_track_text(capsys):
     assert "RCM error max" in out and "tip error max" in out
 
 
+def _pane_commands(page: str) -> list[list[dict]]:
+    """The commands of each viewer of a :func:`rcm_pin.viz.scene.panes_html` page: gzip of
+    (uint32 big-endian length, msgpack command) records, base64 in a script element."""
+    import base64
+    import gzip
+    import re
+
+    import umsgpack
+
+    panes = []
+    for blob in re.findall(
+        r'<script type="application/octet-stream" id="commands-\d+">([^<]*)<', page
+    ):
+        raw, at, commands = gzip.decompress(base64.b64decode(blob)), 0, []
+        while at < len(raw):
+            size = int.from_bytes(raw[at : at + 4], "big")
+            commands.append(umsgpack.unpackb(raw[at + 4 : at + 4 + size]))
+            at += 4 + size
+        panes.append(commands)
+    return panes
+
+
+def _check_panes(page: str, tracks) -> None:
+    """One viewer per run, Meshcat's JavaScript once, every visual node set once (no hidden
+    collision copies), one animation of every run's frames (20 frames per second)."""
+    from meshcat.servers.zmqserver import VIEWER_ROOT
+
+    script = (Path(VIEWER_ROOT) / "main.min.js").read_text()
+    assert page.count(script) == 1 and page.count("new MeshCat.Viewer(") == 1
+    panes = _pane_commands(page)
+    assert len(panes) == len(tracks) == page.count('class="pane"')
+    for tr, commands in zip(tracks, panes, strict=True):
+        assert page.count(f"<figcaption>{tr.setup.mech.name}</figcaption>") >= 1
+        objects = [c["path"] for c in commands if c["type"] == "set_object"]
+        assert len(objects) == len(set(objects)), "a node set twice"
+        assert not [c for c in commands if "/collisions/" in c["path"]]
+        visual = pin.buildGeomFromUrdfString(
+            tr.setup.mech.model, tr.setup.mech.urdf, pin.GeometryType.VISUAL,
+            package_dirs=list(tr.setup.mech.family.mesh_dirs(tr.setup.mech)),
+        )  # fmt: skip
+        assert sum("/pinocchio/visuals/" in o for o in objects) == visual.ngeoms
+        (animation,) = [c for c in commands if c["type"] == "set_animation"]
+        frames = len(tr.q[:: max(1, round(1.0 / (20.0 * float(tr.t[1] - tr.t[0]))))])
+        clips = [a["clip"] for a in animation["animations"]]
+        assert {c["fps"] for c in clips} == {20}
+        assert {len(c["tracks"][0]["keys"]) for c in clips} == {frames}
+
+
 def test_side_by_side_animation_has_one_scene_per_run(tmp_path):
     from rcm_pin.report.programmable_rcm import side_by_side
 
     tr = run(make_setup("rcm_bevel"), "circle", duration=0.2)
     page = side_by_side([tr, tr], tmp_path / "anim.html").read_text()
-    assert page.count("<iframe") == 2 and page.count("<figcaption>rcm_bevel</figcaption>") == 2
+    _check_panes(page, [tr, tr])
+
+
+def test_the_reports_side_by_side_page_is_under_10_mb(tmp_path):
+    """The report's page (rcm_bevel, panda and ur5 on the whole circle) was 49 MB: three
+    iframes, each with Meshcat's JavaScript and every mesh twice (as hidden collision
+    geometry too), uncompressed."""
+    from rcm_pin.report.programmable_rcm import side_by_side
+    from rcm_pin.studies.rcm_comparison import COMPARED
+
+    tracks = [run(make_setup(name), "circle") for name in COMPARED]
+    path = side_by_side(tracks, tmp_path / "programmable_rcm.html")
+    assert path.stat().st_size < 10e6, f"{path.stat().st_size / 1e6:.1f} MB"
+    _check_panes(path.read_text(), tracks)

@@ -299,3 +299,18 @@ def test_a_chromium_past_its_timeout_is_ended_with_its_processes(tmp_path, monke
         time.sleep(0.05)
     else:
         raise AssertionError(f"the child process {child} of the fake browser still runs")
+
+
+def test_scene_commands_are_the_static_pages_commands():
+    """``scene_commands`` (the input of the several-viewer page) are the commands the static
+    page sends, in its order; no node is loaded twice (no hidden collision copies)."""
+    viewer = Viewer(rcm_pin.load("rcm_bevel"))
+    packed = viewer.scene_commands()
+    decoded = [umsgpack.unpackb(c) for c in packed]
+    assert decoded == _commands(viewer.static_html())
+    objects = [d["path"] for d in decoded if d["type"] == "set_object"]
+    assert len(objects) == len(set(objects))
+    assert not [d for d in decoded if "/collisions/" in d["path"]]
+    viewer.vis.window = object()  # as with a meshcat-server: its scene is not in memory
+    with pytest.raises(InvalidInputError, match=r"^scene_commands needs an in-memory scene; "):
+        viewer.scene_commands()

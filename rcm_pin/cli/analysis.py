@@ -12,9 +12,6 @@ from typing import Any
 
 import numpy as np
 
-from rcm_pin.analysis import accuracy, singularity_report
-from rcm_pin.analysis import workspace as ws
-from rcm_pin.analysis.closed_singularity import parse_mode
 from rcm_pin.analysis.singularity import MEASURES, TASKS
 from rcm_pin.cli._common import (
     add_common,
@@ -129,6 +126,9 @@ def _grid_coords(text: str) -> tuple[tuple[int, int] | None, int | None]:
 
 def cmd_singularities(args: argparse.Namespace) -> int:
     """``rcm-pin singularities``."""
+    from rcm_pin.analysis import singularity_report
+    from rcm_pin.analysis.closed_singularity import parse_mode
+
     if args.plot:
         output_path(args.plot, "--plot")
     mech = load_mechanism(args)
@@ -208,6 +208,8 @@ def _plot_grid(mech: Mechanism, res: dict[str, Any], path: Path) -> Path:
 
 def cmd_workspace(args: argparse.Namespace) -> int:
     """``rcm-pin workspace``."""
+    from rcm_pin.analysis import workspace as ws
+
     if args.plot:
         output_path(args.plot, "--plot")
     mech = load_mechanism(args)
@@ -248,6 +250,8 @@ def cmd_workspace(args: argparse.Namespace) -> int:
 
 def cmd_accuracy(args: argparse.Namespace) -> int:
     """``rcm-pin accuracy``: the family's table, or every joint placement's sensitivity."""
+    from rcm_pin.analysis import accuracy, singularity_report
+
     mech = load_mechanism(args)
     named = mech.family.configurations(mech)
     if args.q:

@@ -105,8 +105,11 @@ def cmd_optimize(args: argparse.Namespace) -> int:
     """``rcm-pin optimize``: the Pareto front of the metrics (NSGA-II)."""
     from rcm_pin.design.optimize import optimize
     from rcm_pin.design.plots import pareto_front
+    from rcm_pin.errors import require
 
     out = output_path(args.out, "--out", directory=True) if args.out else None
+    if out is not None:
+        require("design", "pyarrow")  # the table is written after the search: check first
     study = _study(args)
     res = optimize(study, args.trials, args.population, args.scheduler, args.workers, args.chunk)
     front = res.frame[res.frame["pareto"]]

@@ -47,9 +47,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     ik.set_defaults(func=cmd_ik)
 
     tr = ocp_sub.add_parser("track", help="paper 000 tracking OCP (direct collocation)")
-    from ocp.paper000 import MECHANISM
-
-    tr.add_argument("name", nargs="?", default=MECHANISM, metavar="NAME")
+    # default None: ocp.paper000.MECHANISM, read in cmd_track (importing ocp loads CasADi)
+    tr.add_argument("name", nargs="?", default=None, metavar="NAME")
     tr.add_argument("--n", type=int, default=100, help="collocation intervals (default 100)")
     tr.add_argument("--solver", default="ipopt", choices=("ipopt", "fatrop"))
     tr.add_argument(
@@ -92,7 +91,10 @@ def _pose(text: str | None) -> np.ndarray | None:
 
 def cmd_track(args: argparse.Namespace) -> int:
     from ocp.commands import format_track, track_command
+    from ocp.paper000 import MECHANISM
 
+    if args.name is None:
+        args.name = MECHANISM
     if args.n < 2:
         raise InvalidInputError(f"--n {args.n} is too small; valid: an integer >= 2")
     payload = track_command(

@@ -68,6 +68,9 @@ def result_text(result: PositionResult) -> str:
     lines = [
         f"{mech.name}: {result.kind} position problem, {result.count} solution(s) ({result.method})"
     ]
+    if result.solutions:  # the legend of the prefix of each solution line
+        keep = "; ik --within-limits keeps the 'in' ones" if result.kind == "inverse" else ""
+        lines.append(f"in / out: every coordinate inside its joint limits / some outside{keep}")
     for sol in result.solutions:
         out = result.output.to_json(sol.output)
         scalars = {k: v for k, v in out.items() if k not in ("rotation", "angles")}

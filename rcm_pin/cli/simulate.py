@@ -17,7 +17,7 @@ from __future__ import annotations
 import argparse
 from dataclasses import replace
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 
@@ -29,13 +29,12 @@ from rcm_pin.cli._common import (
     output_path,
     parse_vector,
 )
-from rcm_pin.control.computed_torque import Gains
-from rcm_pin.control.linear import error_response
-from rcm_pin.control.result import SimulationResult
-from rcm_pin.control.scenario import Scenario, run, scenarios
-from rcm_pin.dynamics.tree import with_gravity
 from rcm_pin.errors import InvalidInputError
-from rcm_pin.model.mechanism import Mechanism
+
+if TYPE_CHECKING:  # the command functions import the control layer (not needed for --help)
+    from rcm_pin.control.result import SimulationResult
+    from rcm_pin.control.scenario import Scenario
+    from rcm_pin.model.mechanism import Mechanism
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -88,6 +87,9 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def _scenario(mech: Mechanism, args: argparse.Namespace) -> tuple[str, Scenario]:
+    from rcm_pin.control.computed_torque import Gains
+    from rcm_pin.control.scenario import scenarios
+
     table = scenarios(mech)
     name = args.scenario or next(iter(table))
     if name not in table:
@@ -122,6 +124,8 @@ def _scenario(mech: Mechanism, args: argparse.Namespace) -> tuple[str, Scenario]
 
 
 def _summary(mech: Mechanism, label: str, res: SimulationResult, sc: Scenario) -> dict[str, Any]:
+    from rcm_pin.control.linear import error_response
+
     out = {"label": label, **res.summary()}
     after = res.t >= 5.0 * sc.gains.tau  # the error's transient: five time constants
     out["transient_time"] = 5.0 * sc.gains.tau
@@ -141,6 +145,9 @@ def _summary(mech: Mechanism, label: str, res: SimulationResult, sc: Scenario) -
 
 def cmd_simulate(args: argparse.Namespace) -> int:
     """``rcm-pin simulate``."""
+    from rcm_pin.control.scenario import run, scenarios
+    from rcm_pin.dynamics.tree import with_gravity
+
     if args.plot:
         output_path(args.plot, "--plot", directory=True)
     mech = load_mechanism(args)

@@ -22,12 +22,7 @@ from rcm_pin.cli._common import (
     parse_vector,
     target_from_args,
 )
-from rcm_pin.dynamics.vibrations import (
-    linearised_frequencies,
-    natural_frequencies,
-)
 from rcm_pin.errors import InvalidInputError
-from rcm_pin.studies.working_mode import configuration_at
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -51,6 +46,9 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def cmd_vibrations(args: argparse.Namespace) -> int:
     """``rcm-pin vibrations``."""
+    from rcm_pin.dynamics.vibrations import linearised_frequencies, natural_frequencies
+    from rcm_pin.studies.working_mode import configuration_at
+
     mech = load_mechanism(args)
     if mech.loops is None:
         raise InvalidInputError(

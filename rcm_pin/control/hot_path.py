@@ -21,11 +21,11 @@ nonLinearEffects / rnea called directly and against the public law.
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import TYPE_CHECKING, NamedTuple
+from functools import cache
+from typing import TYPE_CHECKING, Any, NamedTuple
 
 import numpy as np
 import pinocchio as pin
-from scipy.linalg.lapack import dgesv
 
 from rcm_pin.control.references import CartesianTrajectory, Reference
 from rcm_pin.dynamics.tree import solve_mass_upper
@@ -127,10 +127,18 @@ def reference_samples(ref: Reference, t: np.ndarray) -> tuple[np.ndarray, np.nda
     return x, xd, xdd
 
 
+@cache
+def _dgesv() -> Callable[..., Any]:
+    """LAPACK ``dgesv``, imported on first use and kept (``scipy.linalg`` is slow to import)."""
+    from scipy.linalg.lapack import dgesv
+
+    return dgesv
+
+
 def solve(A: np.ndarray, rhs: np.ndarray) -> np.ndarray:
     """A x = rhs by one LAPACK ``dgesv`` call (the routine of ``np.linalg.solve``, without
     its per-call overhead); a singular A goes to ``np.linalg.solve``, which raises."""
-    x, info = dgesv(A, rhs)[2:]
+    x, info = _dgesv()(A, rhs)[2:]
     return x if info == 0 else np.linalg.solve(A, rhs)
 
 

@@ -14,7 +14,6 @@ from __future__ import annotations
 from typing import TYPE_CHECKING
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 if TYPE_CHECKING:
     from rcm_pin.control.computed_torque import Gains
@@ -73,6 +72,8 @@ def linear_error(
     def rhs(time: float, y: np.ndarray) -> np.ndarray:
         f = forcing.acceleration(time)[:k] if forcing is not None else 0.0
         return np.concatenate([y[k:], f - gains.kc * y[k:] - kpos * y[:k]])
+
+    from scipy.integrate import solve_ivp  # lazy: scipy.integrate is slow to import
 
     sol = solve_ivp(
         rhs,

@@ -15,13 +15,19 @@ pink, mink and placo ship no RCM task; this is the one missing piece.
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import pink
-from pink.tasks import Task
 
 from rcm_pin.control.rcm_task import RcmState, RcmTool, rcm_state
+from rcm_pin.errors import require
+
+if TYPE_CHECKING:
+    import pink
+    from pink.tasks import Task
+else:  # the [arms] extra (MissingExtraError without it)
+    pink = require("arms", "pink")
+    Task = require("arms", "pink.tasks").Task
 
 
 class _ToolTaskBase(Task):  # type: ignore[misc]

@@ -28,10 +28,9 @@ from typing import Any, Literal
 
 import numpy as np
 import pinocchio as pin
-import qpsolvers
 
 from rcm_pin.control.rcm_task import RcmState, RcmTool, make_tool, rcm_state, update_kinematics
-from rcm_pin.errors import InvalidInputError, SolverError
+from rcm_pin.errors import InvalidInputError, SolverError, require
 from rcm_pin.model.mechanism import Mechanism
 
 Formulation = Literal["distance", "lambda"]
@@ -123,6 +122,9 @@ class RcmQP:
             )
         if not (np.isfinite(dt) and dt > 0):
             raise InvalidInputError(f"dt must be > 0 [s]; got {dt!r}")
+        # the [arms] extra: qpsolvers with the daqp solver (MissingExtraError without them)
+        self._solve_qp = require("arms", "qpsolvers").solve_qp
+        require("arms", "daqp")
         self.model, self.data, self.tool = model, model.createData(), tool
         self.dt, self.formulation, self.damping = float(dt), formulation, float(damping)
         self.position_gain, self.w_rcm = float(position_gain), float(w_rcm)
@@ -161,7 +163,7 @@ class RcmQP:
             H = np.block([[H, np.zeros((n, 1))], [np.zeros((1, n)), np.array([[LAMBDA_WEIGHT]])]])
             g, big = np.append(g, 0.0), np.array([LAMBDA_STEP_BOUND])
             lo, hi = np.append(lo, -big), np.append(hi, big)
-        x = qpsolvers.solve_qp(H, g, A=A, b=b, lb=lo, ub=hi, solver="daqp")
+        x = self._solve_qp(H, g, A=A, b=b, lb=lo, ub=hi, solver="daqp")
         return None if x is None else np.asarray(x[:n], dtype=float)
 
     def step(
@@ -206,7 +208,7 @@ class RcmQP:
     def step_pink(self, q: np.ndarray, p_target: np.ndarray) -> np.ndarray:
         """The same first-level step through pink: tip and RCM as constraints, the posture
         as pink's ``PostureTask`` (gain = posture gain × dt) in the cost."""
-        import pink
+        pink = require("arms", "pink")
         from pink.limits import ConfigurationLimit, VelocityLimit
         from pink.tasks import PostureTask
 

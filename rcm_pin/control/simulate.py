@@ -35,7 +35,6 @@ from dataclasses import replace
 from typing import Any
 
 import numpy as np
-from scipy.integrate import solve_ivp
 
 from rcm_pin.control.backends import check_backend, compiled_rhs
 from rcm_pin.control.closed_hot_path import ClosedPlant
@@ -185,6 +184,8 @@ def simulate(
         handlers.append(handler)
     handlers += [b[0] for b in bounds]
     t_eval = None if samples is None else np.linspace(0.0, duration, samples)
+    from scipy.integrate import solve_ivp  # lazy: scipy.integrate is slow to import
+
     start = time.perf_counter()
     sol = solve_ivp(
         rhs,

@@ -8,7 +8,40 @@
 * :mod:`.plots`: metric maps over two arguments, the Pareto front.
 """
 
-from rcm_pin.design.execute import SweepResult, run
-from rcm_pin.design.study import Constraint, Design, Study, Vary, designs, validate
+from __future__ import annotations
+
+import importlib
+from typing import TYPE_CHECKING, Any
+
+if TYPE_CHECKING:
+    from rcm_pin.design.execute import SweepResult, run
+    from rcm_pin.design.study import Constraint, Design, Study, Vary, designs, validate
+
+#: The re-exports, imported on first access (PEP 562): a study is described with
+#: :mod:`.study` alone; running it (:mod:`.execute`) needs the ``[design]`` extra.
+_LAZY = {
+    "Constraint": "study",
+    "Design": "study",
+    "Study": "study",
+    "SweepResult": "execute",
+    "Vary": "study",
+    "designs": "study",
+    "run": "execute",
+    "validate": "study",
+}
+
+
+def __getattr__(name: str) -> Any:
+    module = _LAZY.get(name)
+    if module is None:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(f"{__name__}.{module}"), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted({*globals(), *_LAZY})
+
 
 __all__ = ["Constraint", "Design", "Study", "SweepResult", "Vary", "designs", "run", "validate"]

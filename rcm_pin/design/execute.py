@@ -24,15 +24,19 @@ from dataclasses import dataclass
 from multiprocessing import get_all_start_methods, get_context
 from multiprocessing.context import BaseContext
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
-import pandas as pd
 from tqdm import tqdm
 
 from rcm_pin.design import store
 from rcm_pin.design.evaluate import evaluate_chunk, model_hash
 from rcm_pin.design.study import Design, Study, designs, validate
-from rcm_pin.errors import InvalidInputError
+from rcm_pin.errors import InvalidInputError, require
+
+if TYPE_CHECKING:
+    import pandas as pd
+else:
+    pd = require("design", "pandas")
 
 #: Designs per task.
 CHUNK = 8
@@ -94,8 +98,8 @@ def _local(
 def _dask(
     parts: list[list[Design]], metrics: tuple[str, ...], scheduler: str
 ) -> Iterator[list[dict[str, Any]]]:
-    from distributed import Client
-    from distributed import as_completed as dask_completed
+    distributed = require("design", "distributed")
+    Client, dask_completed = distributed.Client, distributed.as_completed
 
     try:
         client = Client(scheduler, timeout=CONNECT_TIMEOUT, set_as_default=False)

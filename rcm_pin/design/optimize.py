@@ -16,17 +16,21 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import optuna
-import pandas as pd
 
 from rcm_pin.design import store
 from rcm_pin.design.evaluate import OK
 from rcm_pin.design.execute import CHUNK, check_workers, compute
 from rcm_pin.design.study import Constraint, Design, Study, validate
-from rcm_pin.errors import InvalidInputError
+from rcm_pin.errors import InvalidInputError, require
+
+if TYPE_CHECKING:
+    import optuna
+    import pandas as pd
+else:
+    optuna = require("design", "optuna")
 
 
 @dataclass(frozen=True)

@@ -3,14 +3,17 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt
-import pandas as pd
 
 from rcm_pin.errors import InvalidInputError
+
+if TYPE_CHECKING:
+    import pandas as pd
 
 
 def metric_map(frame: pd.DataFrame, x: str, y: str, metric: str, path: Path) -> Path:
@@ -23,17 +26,16 @@ def metric_map(frame: pd.DataFrame, x: str, y: str, metric: str, path: Path) -> 
             f"no column {missing[0]!r} in the table; valid: {', '.join(map(str, frame.columns))}"
         )
     grid = frame.pivot_table(index=cols[1], columns=cols[0], values=metric, aggfunc="first")
-    fig, ax = plt.subplots(figsize=(6.4, 4.8))
+    fig, ax = plt.subplots(figsize=(6.4, 5.0), layout="constrained")
     mesh = ax.pcolormesh(grid.columns, grid.index, grid.to_numpy(float), shading="nearest")
     fig.colorbar(mesh, ax=ax, label=metric)
     bad = frame[~frame["feasible"]]
     ax.scatter(bad[cols[0]], bad[cols[1]], marker="x", color="white", s=18, label="infeasible")
     ax.set_xlabel(x)
     ax.set_ylabel(y)
-    ax.set_title(f"{frame['mechanism'].iloc[0]}: {metric}")
-    if len(bad):
-        ax.legend(loc="upper right", fontsize=8)
-    fig.tight_layout()
+    # the marks are explained in the title: a legend inside the map covered a corner's marks
+    marks = "; white ×: infeasible" if len(bad) else ""
+    ax.set_title(f"{frame['mechanism'].iloc[0]}: {metric}{marks}")
     fig.savefig(path, dpi=120)
     plt.close(fig)
     return Path(path)

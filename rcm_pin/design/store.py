@@ -11,13 +11,17 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
-import pandas as pd
 
 from rcm_pin.design.study import Constraint
-from rcm_pin.errors import InvalidInputError
+from rcm_pin.errors import InvalidInputError, require
+
+if TYPE_CHECKING:
+    import pandas as pd
+else:
+    pd = require("design", "pandas")
 
 #: File name of the table inside a study's output folder.
 TABLE = "designs.parquet"
@@ -40,7 +44,10 @@ def read(folder: Path) -> pd.DataFrame:
 
     Raises:
         InvalidInputError: the file exists but is not a Parquet table of designs.
+        MissingExtraError: pyarrow is not installed (checked before a study runs: a run
+            with an output folder reads it first and writes it at the end).
     """
+    require("design", "pyarrow")  # pandas' Parquet engine
     path = Path(folder) / TABLE
     if not path.is_file():
         return pd.DataFrame()
@@ -64,6 +71,7 @@ def done(frame: pd.DataFrame, metrics: tuple[str, ...]) -> set[tuple[str, str]]:
 def write(folder: Path, frame: pd.DataFrame) -> Path:
     """Write the table (index-free) and return its path."""
     path = Path(folder) / TABLE
+    require("design", "pyarrow")  # pandas' Parquet engine
     frame.to_parquet(path, index=False)
     return path
 

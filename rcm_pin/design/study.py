@@ -24,7 +24,6 @@ from dataclasses import dataclass, field
 from typing import Literal
 
 import numpy as np
-from scipy.stats import qmc
 
 from rcm_pin.catalog.table import get_entry
 from rcm_pin.errors import InvalidInputError, UnknownMechanismError, XacroArgumentError
@@ -192,6 +191,8 @@ def unit_points(study: Study) -> np.ndarray:
         axes = [np.linspace(0.0, 1.0, v.n) if v.n > 1 else np.array([0.5]) for v in study.vary]
         return np.array(list(itertools.product(*axes)), dtype=float).reshape(-1, d)
     if study.sampler == "lhs":
+        from scipy.stats import qmc  # lazy: scipy.stats takes ~0.3 s to import
+
         return np.asarray(qmc.LatinHypercube(d=d, seed=study.seed).random(study.samples))
     return np.random.default_rng(study.seed).random((study.samples, d))
 

@@ -34,7 +34,6 @@ from typing import Any
 
 import numpy as np
 import pinocchio as pin
-import scipy.linalg
 
 from rcm_pin.dynamics.constrained import forward_dynamics, world_closure
 from rcm_pin.dynamics.tree import mass_matrix_pin
@@ -165,6 +164,8 @@ def natural_frequencies(
     q = mech.check_q(q)
     c = stiffness_vector(mech, stiffness)
     m_q, s = reduced_mass(mech, q)
+    import scipy.linalg  # lazy: scipy.linalg takes ~0.1 s to import
+
     w2, phi = scipy.linalg.eigh(np.diag(c), m_q)
     if np.any(w2 <= 0):
         raise SolverError(f"{mech.name}: M_q is not positive definite (ω² = {w2.tolist()})")

@@ -8,7 +8,6 @@ no closed forms here: every analysis takes the numeric routes.
 
 from __future__ import annotations
 
-import importlib.metadata
 from collections.abc import Callable
 from pathlib import Path
 
@@ -35,6 +34,8 @@ def robots_dir() -> Path:
     Raises:
         InvalidInputError: example-robot-data is not installed.
     """
+    import importlib.metadata  # ~25 ms to import: only when an arm is loaded
+
     try:
         dist = importlib.metadata.distribution("example-robot-data")
     except importlib.metadata.PackageNotFoundError:

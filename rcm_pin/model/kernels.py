@@ -43,7 +43,6 @@ import warnings
 import weakref
 from collections.abc import Iterator
 from contextlib import contextmanager
-from importlib.metadata import entry_points
 from typing import NamedTuple, Protocol
 
 import numpy as np
@@ -138,6 +137,9 @@ def providers() -> tuple[KernelProvider, ...]:
     global _providers
     with _lock:
         if _providers is None:
+            # importlib.metadata takes ~25 ms to import: only on the first request
+            from importlib.metadata import entry_points
+
             loaded = []
             for ep in sorted(entry_points(group=GROUP), key=lambda e: e.name):
                 try:

@@ -98,8 +98,6 @@ def render_xacro(path: str | Path, args: Mapping[str, object] | None = None) -> 
     Raises:
         XacroArgumentError: bad argument, or xacro failed on the given values.
     """
-    import xacro  # local import: xacro is slow to import and not needed for cached reads
-
     p = Path(path)
     if not p.exists():
         raise XacroArgumentError(f"xacro file {p} does not exist")
@@ -111,6 +109,8 @@ def render_xacro(path: str | Path, args: Mapping[str, object] | None = None) -> 
     if disk.exists():
         _memory[key] = disk.read_text()
         return _memory[key]
+    import xacro  # local import: xacro is slow to import and not needed for cached reads
+
     try:
         document = xacro.process_file(str(p), mappings=text_args)  # type: ignore[attr-defined]
     except Exception as exc:  # xacro raises its own XacroException and NameError

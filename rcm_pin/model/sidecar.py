@@ -34,8 +34,6 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-import yaml
-
 from rcm_pin.errors import InvalidInputError
 
 ELEMENT = "rcm_pin"
@@ -192,6 +190,8 @@ def to_yaml(desc: Description) -> str:
         "# Loop closures of the cut-open URDF tree (LAAS example-parallel-robots format).\n"
         "# Generated from the <rcm_pin> element of the xacro; do not edit by hand.\n"
     )
+    import yaml  # lazy: ~20 ms to import, only for sidecars
+
     body = yaml.safe_dump(to_yaml_dict(desc), sort_keys=False, default_flow_style=None)
     return header + body
 
@@ -202,6 +202,8 @@ def description_from_yaml(text: str) -> Description:
     Raises:
         InvalidInputError: not YAML, or no ``closed_loop`` or drive list.
     """
+    import yaml  # lazy: ~20 ms to import, only for sidecars
+
     try:
         raw = yaml.safe_load(text) or {}
     except yaml.YAMLError as exc:

@@ -98,9 +98,10 @@ def _figure(out: Path, feasible: TrackingResult, limited: TrackingResult, lim: n
         ax[0].semilogy(
             res.t_colloc, np.maximum(np.linalg.norm(res.p - res.p_ref, axis=1), 1e-16), label=label
         )
-        ax[1].plot(res.t_colloc, res.tau[:, 0], label=f"q1, {label}")
-    ax[1].axhline(lim[0], color="k", lw=0.8, ls="--")
-    ax[1].axhline(-lim[0], color="k", lw=0.8, ls="--")
+        ax[1].plot(res.t_colloc, res.tau[:, 0], label=f"q1, {label}", lw=2.0, zorder=3)
+    # The limited effort runs along its limit: the limit lines go below the curves.
+    ax[1].axhline(lim[0], color="k", lw=0.8, ls="--", zorder=1, label="q1 limit (±80 % of peak)")
+    ax[1].axhline(-lim[0], color="k", lw=0.8, ls="--", zorder=1)
     ax[0].set(xlabel="t [s]", ylabel="|p - p_ref| [m]", title="tracking error")
     ax[1].set(xlabel="t [s]", ylabel="effort q1 [N m]", title="platform drive effort")
     for a in ax:

@@ -8,8 +8,10 @@ refers to them by bare names, so the links stay valid).
 hashes) is kept in ``out/.cache/<slug>.json`` under a key, the SHA-256 of
 
 * the sources of every module the section's module imports, directly or not (the import
-  graph of ``rcm_pin`` and ``ocp`` built by grimp, the library behind import-linter), and
-  its own source;
+  graph of ``rcm_pin`` and ``ocp`` built by grimp, the library behind import-linter, from
+  the ``[report]`` extra), and its own source; without grimp, the sources of every module
+  of ``rcm_pin`` and ``ocp`` (a superset: never stale, but any edit recomputes every
+  section);
 * every file of ``xacro/`` and ``urdf/`` (the models the sections load);
 * the versions of the numerical packages (Pinocchio, CasADi, NumPy, SciPy, matplotlib,
   example-robot-data) and of Python.
@@ -35,6 +37,7 @@ from importlib import metadata
 from multiprocessing import get_all_start_methods, get_context
 from pathlib import Path
 
+from rcm_pin.errors import MissingExtraError, require
 from rcm_pin.model.resources import urdf_dir, xacro_dir
 from rcm_pin.report.framework import Section
 
@@ -81,10 +84,26 @@ def _models_digest() -> str:
 
 
 @lru_cache(maxsize=1)
-def _graph() -> object:
-    import grimp
-
+def _graph() -> object | None:
+    """The import graph of ``rcm_pin`` and ``ocp``, or None without grimp (the ``[report]``
+    extra)."""
+    try:
+        grimp = require("report", "grimp")
+    except MissingExtraError:
+        return None
     return grimp.build_graph("rcm_pin", "ocp", cache_dir=None)
+
+
+@lru_cache(maxsize=1)
+def _every_module() -> frozenset[str]:
+    """Every module of ``rcm_pin`` and ``ocp``, from their source files (no import)."""
+    root = Path(__file__).resolve().parents[2]
+    names = set()
+    for package in ("rcm_pin", "ocp"):
+        for path in (root / package).rglob("*.py"):
+            parts = path.relative_to(root).with_suffix("").parts
+            names.add(".".join(parts[:-1] if parts[-1] == "__init__" else parts))
+    return frozenset(names)
 
 
 @cache
@@ -104,8 +123,11 @@ def _module_file(module: str) -> Path | None:
 def cache_key(module: str) -> str:
     """The cache key of a section module (module docstring)."""
     graph = _graph()
-    known = module in graph.modules  # type: ignore[attr-defined]
-    upstream = graph.find_upstream_modules(module) if known else set()  # type: ignore[attr-defined]
+    if graph is None:  # no import graph: every module (module docstring)
+        upstream: set[str] | frozenset[str] = _every_module()
+    else:
+        known = module in graph.modules  # type: ignore[attr-defined]
+        upstream = graph.find_upstream_modules(module) if known else set()  # type: ignore[attr-defined]
     modules = sorted({module, *upstream})
     digest = hashlib.sha256()
     for name in modules:

@@ -159,9 +159,10 @@ def figure(r: BeatRun, path: Path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(2, 1, figsize=(10, 6), sharex=True)
-    for i, lab in enumerate("xyz"):
-        axes[0].plot(r.t, 1e6 * (r.output[:, i] - r.equilibrium[i]), lw=0.8, label=lab)
+    fig, axes = plt.subplots(2, 1, figsize=(10.8, 6), sharex=True, layout="constrained")
+    # y and z move (almost) alike: z is dashed so that it does not hide y
+    for i, (lab, ls) in enumerate(zip("xyz", ("-", "-", (0, (3, 2))), strict=True)):
+        axes[0].plot(r.t, 1e6 * (r.output[:, i] - r.equilibrium[i]), lw=0.9, ls=ls, label=lab)
     axes[0].set_ylabel("output displacement [µm]")
     axes[0].set_title(
         f"free vibrations: beat period {r.beat_period():.4f} s, 2π/|ω₃ − ω₁| = "
@@ -172,9 +173,8 @@ def figure(r: BeatRun, path: Path) -> None:
     axes[1].plot(r.t, r.energy, "k--", lw=0.8, label="total")
     axes[1].set_ylabel("energy [J]")
     axes[1].set_xlabel("t [s]")
-    for ax in axes:
-        ax.legend(fontsize=8, loc="upper right")
-    fig.tight_layout()
+    for ax in axes:  # beside the axes: inside, it covered the curves
+        ax.legend(fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))
     fig.savefig(path, dpi=110)
     plt.close(fig)
 

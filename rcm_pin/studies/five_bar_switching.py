@@ -203,10 +203,13 @@ def switching_figure(runs: list[Run], ref: dict[str, np.ndarray], path: Path) ->
     ax.set_xlabel("t [s]")
     ax.set_ylabel("|τ| [N·m]")
     ax.legend()
+    # The switching run follows the unlimited one wherever no limit acts: the unlimited run
+    # (the first) is dashed and drawn on top so that neither hides the other.
+    styles = [{"ls": (0, (4, 2)), "lw": 2.2, "zorder": 3}] + [{"lw": 1.5, "zorder": 2}] * len(runs)
     ax = axes[1]
-    for run in runs:
+    for run, style in zip(runs, styles):
         eff = np.max(np.abs(run.tau_main), axis=1) + np.max(np.abs(run.tau_extra), axis=1)
-        ax.semilogy(run.t, np.maximum(eff, 1e-6), label=run.label)
+        ax.semilogy(run.t, np.maximum(eff, 1e-6), label=run.label, **style)
     on = runs[-1].extras_on
     if on.any():
         t_on = runs[-1].t[on]
@@ -217,12 +220,12 @@ def switching_figure(runs: list[Run], ref: dict[str, np.ndarray], path: Path) ->
     ax.set_ylabel("|τ| [N·m]")
     ax.legend(fontsize=8)
     ax = axes[2]
-    for run in runs:
-        ax.semilogy(run.t, np.maximum(run.error, 1e-12), label=run.label)
+    for run, style in zip(runs, styles):
+        ax.semilogy(run.t, np.maximum(run.error, 1e-12), label=run.label, **style)
     ax.set_title("tracking error |P − P_T|")
     ax.set_xlabel("t [s]")
     ax.set_ylabel("[m]")
-    ax.legend(fontsize=8)
+    ax.legend(fontsize=8, loc="lower left")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)

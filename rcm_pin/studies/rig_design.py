@@ -16,9 +16,9 @@
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
-import pandas as pd
 import pinocchio as pin
 
 from rcm_pin.catalog import load
@@ -27,6 +27,9 @@ from rcm_pin.design.study import Constraint
 from rcm_pin.mechanisms.rcm import design as rd
 from rcm_pin.mechanisms.rcm.accuracy import outputs
 from rcm_pin.mechanisms.rcm.workspace import SPEC_HALF_ANGLE, SPEC_R_MIN
+
+if TYPE_CHECKING:  # the frames come from rcm_pin.design.run, which needs pandas
+    import pandas as pd
 
 RIG_STUDY = Study(
     "rcm_bevel",

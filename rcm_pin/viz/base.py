@@ -84,7 +84,10 @@ class MeshcatScene:
         visual = pin.buildGeomFromUrdfString(
             model, urdf, pin.GeometryType.VISUAL, package_dirs=list(package_dirs)
         )
-        self.viz = MeshcatVisualizer(model, visual, visual)
+        # No collision model: with the visual one as collision model Pinocchio loaded every
+        # mesh a second time under .../collisions (hidden, but sent and exported: an arm's
+        # page was twice as large).
+        self.viz = MeshcatVisualizer(model, None, visual)
         self.viz.initViewer(viewer=self.vis)
         self.viz.loadViewerModel(rootNodeName="pinocchio")
         if snapshot_style:  # white background, no grid or axes (for pictures)
@@ -150,6 +153,21 @@ class MeshcatScene:
         if not controls:
             html = html.replace("</body>", "<style>.dg {display: none !important;}</style></body>")
         return html
+
+    def scene_commands(self) -> list[bytes]:
+        """The packed Meshcat commands of an in-memory scene (and animation), for pages of
+        several viewers (:func:`rcm_pin.viz.scene.panes_html`).
+
+        Raises:
+            InvalidInputError: the scene lives in a ``meshcat-server`` (use
+                :meth:`static_html`).
+        """
+        window = self.vis.window
+        if not isinstance(window, SceneRecorder):
+            raise InvalidInputError(
+                "scene_commands needs an in-memory scene; valid: Viewer(mech, server=False)"
+            )
+        return window.commands()
 
     def save_html(self, path: str | Path, controls: bool = True) -> Path:
         """Write :meth:`static_html` to ``path``; returns the path."""

@@ -5,6 +5,8 @@
 ``get_scene``). It keeps the scene tree exactly as ``meshcat-server`` does (same tree
 module, same update rules) and writes the same self-contained static HTML, so scenes
 and animations can be built and exported with no zmq socket, port or browser.
+:func:`panes_html` puts several recorded scenes side by side on one page (Meshcat's
+JavaScript once, each scene's commands gzip-compressed).
 """
 
 from __future__ import annotations
@@ -124,19 +126,25 @@ class SceneRecorder:
             else:
                 self.tree = SceneTree()
 
-    def get_scene(self) -> str:
-        """The scene as a self-contained HTML page (Meshcat's JavaScript inlined)."""
-        commands = []
+    def commands(self) -> list[bytes]:
+        """The packed (msgpack) commands that rebuild the scene, in the order
+        :meth:`get_scene` sends them (each node: object, properties, transform, animation)."""
+        packed: list[bytes] = []
         for node in walk(self.tree):
             if node.object is not None:
-                commands.append(create_command(node.object))
-            commands.extend(create_command(p) for p in node.properties)
+                packed.append(node.object)
+            packed.extend(node.properties)
             if node.transform is not None:
-                commands.append(create_command(node.transform))
+                packed.append(node.transform)
             if node.animation is not None:
-                commands.append(create_command(node.animation))
+                packed.append(node.animation)
+        return packed
+
+    def get_scene(self) -> str:
+        """The scene as a self-contained HTML page (Meshcat's JavaScript inlined)."""
+        commands = "".join(create_command(c) for c in self.commands())
         script = (Path(VIEWER_ROOT) / "main.min.js").read_text()
-        return _HTML.format(mainminjs=script, viewer_js=_VIEWER_JS, commands="".join(commands))
+        return _HTML.format(mainminjs=script, viewer_js=_VIEWER_JS, commands=commands)
 
     def open(self) -> SceneRecorder:
         """No browser to open: export the scene with :meth:`get_scene` instead."""
@@ -151,3 +159,86 @@ class SceneRecorder:
 
     def close(self) -> None:
         """Nothing to release."""
+
+
+#: One page, several Meshcat viewers (:func:`panes_html`).
+_PANES_HTML = """<!DOCTYPE html>
+<html>
+<head>
+<meta charset=utf-8>
+<title>{title}</title>
+<style>
+body {{display: flex; margin: 0; font-family: sans-serif;}}
+figure {{flex: 1; margin: 4px; min-width: 0;}}
+figcaption {{text-align: center;}}
+.pane {{width: 100%; height: 90vh; position: relative; overflow: hidden;}}
+.dg {{display: none !important;}}
+</style>
+</head>
+<body>
+{figures}
+<script>
+{mainminjs}
+</script>
+<script>
+// Each pane's commands: gzip of (uint32 big-endian length, msgpack command) records,
+// base64 in a script element; applied in order to the pane's own viewer.
+async function rcmPinPane(index) {{
+  const pane = document.getElementById("pane-" + index);
+  const data = document.getElementById("commands-" + index).textContent.trim();
+  const viewer = new MeshCat.Viewer(pane);
+  const packed = await fetch("data:application/octet-stream;base64," + data);
+  const stream = packed.body.pipeThrough(new DecompressionStream("gzip"));
+  const bytes = new Uint8Array(await new Response(stream).arrayBuffer());
+  const view = new DataView(bytes.buffer);
+  for (let at = 0; at < bytes.length; ) {{
+    const size = view.getUint32(at);
+    viewer.handle_command_bytearray(bytes.slice(at + 4, at + 4 + size));
+    at += 4 + size;
+  }}
+}}
+for (let i = 0; i < {count}; i++) {{
+  rcmPinPane(i).catch((err) => {{
+    document.getElementById("pane-" + i).textContent = "could not load the scene: " + err;
+  }});
+}}
+</script>
+</body>
+</html>
+"""
+
+
+def panes_html(panes: list[tuple[str, list[bytes]]], title: str = "MeshCat") -> str:
+    """One self-contained page with one Meshcat viewer per pane, side by side.
+
+    Meshcat's JavaScript is inlined once for all panes (a page of ``iframe`` s carried one
+    copy per scene), and each pane's commands (:meth:`SceneRecorder.commands`: every mesh
+    set once, the animation as transforms only) travel gzip-compressed, inflated by the
+    browser's ``DecompressionStream`` (Chromium 80, Firefox 113, Safari 16.4). The
+    ``Open Controls`` panel is hidden.
+
+    Args:
+        panes: (caption, packed commands) per viewer, left to right.
+        title: the page title.
+    """
+    import base64
+    import gzip
+    import html
+    import struct
+
+    figures, blobs = [], []
+    for i, (caption, commands) in enumerate(panes):
+        records = b"".join(struct.pack(">I", len(c)) + c for c in commands)
+        data = base64.b64encode(gzip.compress(records, compresslevel=6, mtime=0)).decode()
+        figures.append(
+            f"<figure><figcaption>{html.escape(caption)}</figcaption>"
+            f'<div class="pane" id="pane-{i}"></div></figure>'
+        )
+        blobs.append(f'<script type="application/octet-stream" id="commands-{i}">{data}</script>')
+    script = (Path(VIEWER_ROOT) / "main.min.js").read_text()
+    return _PANES_HTML.format(
+        title=html.escape(title),
+        figures="\n".join(figures + blobs),
+        mainminjs=script,
+        count=len(panes),
+    )

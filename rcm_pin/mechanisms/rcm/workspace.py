@@ -242,7 +242,9 @@ def plot_sections(mech: Mechanism, path: Path, samples: int = 200_000, seed: int
 
     pts = tool_centres(mech, sample_joints(mech, samples, seed))
     slab = 0.004  # [m]
-    fig, axes = plt.subplots(1, 3, figsize=(15, 5))
+    # constrained layout sizes the equal-aspect panels with room for every label (the
+    # top view is taller than the sections: tight_layout clipped its x label).
+    fig, axes = plt.subplots(1, 3, figsize=(15, 5.4), layout="constrained")
     views = [
         (0, 2, np.abs(pts[:, 1]) < slab, "section y ~ 0 (x-z plane)", "x [m]", "z [m]"),
         (1, 2, np.abs(pts[:, 0]) < slab, "section x ~ 0 (y-z plane)", "y [m]", "z [m]"),
@@ -269,7 +271,6 @@ def plot_sections(mech: Mechanism, path: Path, samples: int = 200_000, seed: int
         ax.set(title=title, xlabel=xl, ylabel=yl, aspect="equal")
         ax.grid(alpha=0.3)
     fig.suptitle(f"{mech.name}: reachable tool centres (blue), rig spec 60 deg cone (red), A (+)")
-    fig.tight_layout()
     path = Path(path)
     fig.savefig(path, dpi=110)
     plt.close(fig)

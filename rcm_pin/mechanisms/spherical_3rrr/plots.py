@@ -58,8 +58,14 @@ def maps_figure(
     tt, aa = np.meshgrid(tilt, az, indexing="ij")
     curves = maps.singular_curves(g, axis) if g.agile_eye else []
     panels = len(torsions_deg) + (1 if curves else 0)
+    # constrained layout keeps the angle labels of neighbouring panels apart (0° and 180°
+    # overlapped with fixed spacing)
     fig, axes = plt.subplots(
-        1, panels, figsize=(4.2 * panels, 4.4), subplot_kw={"projection": "polar"}
+        1,
+        panels,
+        figsize=(4.2 * panels, 4.4),
+        subplot_kw={"projection": "polar"},
+        layout="constrained",
     )
     for ax, sig in zip(np.atleast_1d(axes), torsions_deg, strict=False):
         type1, type2 = maps.measures(g, maps.tt_rotation(axis, tt, aa, np.radians(sig)), mode)
@@ -81,6 +87,9 @@ def maps_figure(
         ax.set_rlim(0, 180)
         ax.set_rticks([45, 90, 135])
         ax.tick_params(labelsize=7)
+        ax.set_axisbelow(False)  # tilt labels stay readable over the map and the marks
+        for label in ax.get_yticklabels():
+            label.set_bbox({"facecolor": "white", "alpha": 0.7, "pad": 1, "edgecolor": "none"})
     fig.colorbar(mesh, ax=np.atleast_1d(axes)[: len(torsions_deg)].tolist(), shrink=0.7,
                  label="type 1: min|B_ii| (colour)")  # fmt: skip
     if curves:
@@ -93,6 +102,9 @@ def maps_figure(
         ax.set_rlim(0, 180)
         ax.set_rticks([45, 90, 135])
         ax.tick_params(labelsize=7)
+        ax.set_axisbelow(False)  # tilt labels stay readable over the map and the marks
+        for label in ax.get_yticklabels():
+            label.set_bbox({"facecolor": "white", "alpha": 0.7, "pad": 1, "edgecolor": "none"})
     marks = (
         "red ×: singular"
         if curves
@@ -103,7 +115,7 @@ def maps_figure(
         f"type-2 σmin/σmax = 0.1, 0.3, 0.5; {marks}",
         fontsize=10,
     )
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=110, bbox_inches="tight")
     plt.close(fig)
     return Path(path)
 
