@@ -17,6 +17,7 @@ from typing import Any
 
 import casadi as ca
 import numpy as np
+import pinocchio as pin
 
 from ocp.joints import JointSpec
 from ocp.kinematics import Pose, Sym, local_placements, skew
@@ -106,7 +107,7 @@ def rnea(
 
 def spatial_inertia(s: JointSpec) -> ca.DM:
     """6 x 6 spatial inertia of the body of joint ``s`` (rows/cols: linear, angular)."""
-    cx = _skew_np(s.lever)
+    cx = pin.skew(s.lever)
     top = np.hstack([s.mass * np.eye(3), -s.mass * cx])
     bottom = np.hstack([s.mass * cx, s.inertia - s.mass * cx @ cx])
     return ca.DM(np.vstack([top, bottom]))
@@ -152,10 +153,6 @@ def crba(specs: tuple[JointSpec, ...], armature: np.ndarray, q: Sym, nv: int) ->
 
 def _svec(s: JointSpec) -> Any:
     return ca.vertcat(*subspace(s))
-
-
-def _skew_np(a: np.ndarray) -> np.ndarray:
-    return np.array([[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]])
 
 
 def cholesky_solve(m: Sym, rhs: Sym) -> Sym:

@@ -15,6 +15,11 @@ happens inside the loop):
 and returns ``f(q)``, ``f(q+)``, the projected-gradient norm and the step norm; the loop
 accepts a step that lowers ``f`` and divides ``mu`` by 10, else rejects it and multiplies
 ``mu`` by 10. Zero-residual problems converge quadratically (``mu`` -> its floor).
+
+A compiled speed twin of the NumPy/SciPy route :mod:`rcm_pin.analysis.serial_ik` (SciPy's
+bounded ``least_squares`` on Pinocchio's output error, the reference): from the same
+starts both reach the same configuration
+(``tests/test_ocp_ik.py::test_the_compiled_lm_is_the_least_squares_reference_on_ur5``).
 """
 
 from __future__ import annotations

@@ -142,7 +142,7 @@ def test_arms_fk_ik(capsys, name):
     text = ";".join(",".join(repr(float(v)) for v in row) for row in pose[:3])
     code, out, _ = run(capsys, "ik", name, "--pose", text, "--json")
     payload = json.loads(out)
-    assert code == 0 and payload["count"] >= 1 and payload["method"] == "multistart LM"
+    assert code == 0 and payload["count"] >= 1 and payload["method"] == "multistart least squares"
     for s in payload["solutions"]:
         np.testing.assert_allclose(s["pose"], pose, atol=1e-9)
 

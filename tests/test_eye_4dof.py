@@ -21,9 +21,10 @@ from rcm_pin.analysis.mobility import mobility
 from rcm_pin.errors import UnreachablePoseError
 from rcm_pin.linkage.fourbar import rocker_angle
 from rcm_pin.mechanisms.eye_4dof import design as dz
-from rcm_pin.mechanisms.eye_4dof.closed_form import gaze_angles, rx, ry, rz
+from rcm_pin.mechanisms.eye_4dof.closed_form import gaze_angles
 from rcm_pin.mechanisms.eye_4dof.family import gaze_range, geometry, outputs
 from rcm_pin.model.newton import constraint_rank
+from rcm_pin.rotations import rot_x, rot_y, rot_z
 
 #: Gaze outputs against the closed forms: Newton stops at a closure residual < 1e-13 m,
 #: which moves an angle by at most ~1e-13 m / 0.035 m (the shortest arm) ≈ 3e-12 rad.
@@ -121,7 +122,7 @@ def test_inverse_every_mode_reaches_the_target(eye):
     (lo, hi), amax = gaze_range(g)
     for _ in range(10):
         e, a, r = rng.uniform(lo, hi), rng.uniform(-amax, amax), rng.uniform(-3, 3)
-        target = ry(-e) @ rz(a) @ rx(r)
+        target = rot_y(-e) @ rot_z(a) @ rot_x(r)
         res = rcm_pin.inverse(eye, target)
         assert res.count == 4
         for sol in res.solutions:
@@ -134,7 +135,7 @@ def test_unreachable_gaze(eye):
     g = geometry(eye)
     (lo, hi), amax = gaze_range(g)
     with pytest.raises(UnreachablePoseError) as e:
-        rcm_pin.inverse(eye, rz(math.radians(60)))
+        rcm_pin.inverse(eye, rot_z(math.radians(60)))
     assert str(e.value) == (
         f"eye_4dof: gaze elevation 0 deg, azimuth 60 deg is not reachable; valid: elevation "
         f"in [{math.degrees(lo):.6g}, {math.degrees(hi):.6g}] deg, |azimuth| <= "

@@ -22,8 +22,9 @@ from rcm_pin.mechanisms.eye_4dof.checks import (
     listing_roll,
     listing_roll_from_rotation,
 )
-from rcm_pin.mechanisms.eye_4dof.closed_form import gaze_angles, rx, ry, rz
+from rcm_pin.mechanisms.eye_4dof.closed_form import gaze_angles
 from rcm_pin.mechanisms.eye_4dof.family import gaze_range, geometry
+from rcm_pin.rotations import rot_x, rot_y, rot_z
 
 
 @pytest.fixture(scope="module")
@@ -75,8 +76,8 @@ def test_listing_roll_two_routes_and_the_law():
         rho = listing_roll(e, a)
         assert abs(rho - listing_roll_from_rotation(e, a)) < EXACT
         # the rotation with this roll has its axis in the frontal plane (x component 0)
-        axis = pin.log3(ry(-e) @ rz(a) @ rx(rho))
+        axis = pin.log3(rot_y(-e) @ rot_z(a) @ rot_x(rho))
         assert abs(axis[0]) < EXACT
-        ge, ga, gr = gaze_angles(ry(-e) @ rz(a) @ rx(rho))
+        ge, ga, gr = gaze_angles(rot_y(-e) @ rot_z(a) @ rot_x(rho))
         np.testing.assert_allclose([ge, ga, gr], [e, a, rho], rtol=0, atol=EXACT)
     assert listing_roll(0.3, 0.0) == 0.0 and listing_roll(0.0, 0.4) == 0.0

@@ -25,6 +25,7 @@ from rcm_pin.errors import (
     UnreachablePoseError,
     XacroArgumentError,
 )
+from rcm_pin.linkage.fourbar import FourBar, performance
 from rcm_pin.mechanisms import four_bar as fb
 from rcm_pin.rotations import wrap_angle
 
@@ -285,6 +286,38 @@ def test_grashof_hand_picked_and_against_full_turns():
         assert g.crank_rocker == (crank and not rocker)
         kinds.add((crank, rocker, g.grashof))
     assert len(kinds) == 5  # crank–rocker, rocker–crank, double crank, double rocker, non-Grashof
+
+
+@pytest.mark.parametrize(
+    ("lengths", "kind"),
+    [
+        ((3.0, 1.0, 2.0, 2.0), "change-point"),  # s + l = p + q, the crank strictly shortest
+        ((0.05, 0.03, 0.05, 0.03), "change-point"),  # a parallelogram
+        ((0.05419, 0.01788, 0.075, 0.05), "crank-rocker"),  # s + l < p + q, crank shortest
+        ((0.05, 0.035, 0.04, 0.03), "non-Grashof triple-rocker"),  # s + l > p + q
+    ],
+)
+def test_one_grashof_rule_for_the_family_and_the_linkage(lengths, kind):
+    """The family's geometry is the linkage layer's four-bar: one class, one crank–rocker
+    verdict (a change-point linkage is none), the same in the family's metrics."""
+    mech = rcm_pin.load("four_bar", **dict(zip(LINK_ARGS, (str(v) for v in lengths))))
+    g = fb.geometry(mech)
+    assert g == FourBar(*lengths)
+    crank_rocker = kind == "crank-rocker"
+    assert g.grashof_class == kind and g.crank_rocker == crank_rocker
+    assert g.grashof == (kind != "non-Grashof triple-rocker")
+    assert performance(g).crank_rocker == crank_rocker
+    swing = mech.family.design_metrics()["swing"].evaluate(mech)
+    if crank_rocker:
+        lo, hi = fb.rocker_range(g)
+        assert mech.family.workspace_summary(mech)["crank_rocker"]
+        assert abs(swing - np.rad2deg(hi - lo)) < EXACT
+    else:
+        assert np.isnan(swing)
+        assert message(InvalidInputError, mech.family.workspace_summary, mech) == (
+            f"links {tuple(lengths)} [m] are a {kind} linkage, not a crank-rocker; valid: "
+            "Grashof (s + l < p + q) with the crank strictly the shortest link"
+        )
 
 
 # ------------------------------------------------------------------------------ dynamics

@@ -333,7 +333,7 @@ pytestmark = pytest.mark.filterwarnings("error")
 
 def _examples(mech: rcm_pin.Mechanism) -> int:
     """Examples per mechanism in the bounded profile: fewer where one solve is slow (the
-    arms' multistart LM, closed mechanisms of many joints)."""
+    arms' multistart least squares, closed mechanisms of many joints)."""
     return 3 if mech.family.name == "arm" or mech.nq > 8 else 8
 
 

@@ -138,6 +138,26 @@ def test_solvers_agree_on_ur5():
         assert np.abs(res.q - q).max() < 1e-7
 
 
+def test_the_compiled_lm_is_the_least_squares_reference_on_ur5():
+    """ocp.ik_lm is a compiled speed twin of rcm_pin.analysis.serial_ik (SciPy's bounded
+    least squares on Pinocchio's output error): from seeded random starts near seeded
+    random poses both reach the same configuration (1e-9, solver results)."""
+    from rcm_pin.analysis.serial_ik import TOL, solve_one
+
+    mech = rcm_pin.load("ur5")
+    prob = IKProblem(mech)
+    rng = np.random.default_rng(24)
+    for q_true in rng.uniform(-2.0, 2.0, (30, mech.nq)):
+        pin.framesForwardKinematics(mech.model, mech.data, mech.to_pin(q_true))
+        frame = mech.data.oMf[mech.output.frame_id]
+        q0 = q_true + rng.uniform(-0.05, 0.05, mech.nq)
+        twin = prob.solve(frame.homogeneous, mech.to_pin(q0), solver="lm")
+        ref, err = solve_one(mech, mech.output.value(frame), mech.output, q0)
+        assert twin.success and err < TOL
+        np.testing.assert_allclose(mech.from_pin(twin.q), ref, rtol=0, atol=1e-9)
+        np.testing.assert_allclose(ref, q_true, rtol=0, atol=1e-9)
+
+
 def test_rcm_and_cone_constraints_on_ur5():
     model, q, pose = _ur5_pose(1)
     p, z = pose[:3, 3], pose[:3, 2]

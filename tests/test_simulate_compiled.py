@@ -1,7 +1,8 @@
 """``simulate(..., backend="compiled")``: the right-hand side as one compiled CasADi function.
 
 * the compiled right-hand side against the Python hot path (``rcm_pin.control.hot_path``)
-  on random states: the efforts to 1e-12 relative (the same law, rounding only), the
+  and the public ``ComputedTorque.effort`` on random states: the efforts to 1e-12
+  relative (the same law, rounding only), the
   accelerations by their residual in Pinocchio's own M q̈ = τ − b (1e-12 relative, an
   independent route) and against the hot path's q̈ to 1e-15·cond(M) relative (two
   backward-stable solves of one matrix differ by up to cond(M)·ε; cond(M) ≈ 1e7 here);
@@ -84,6 +85,10 @@ def test_compiled_rhs_equals_the_python_hot_path(name: str, plant_args: dict, la
         clipped += int(np.any(tau != raw))
         np.testing.assert_allclose(
             kernel.tau(y, np.concatenate(ref)), tau, rtol=RTOL, atol=RTOL * np.abs(tau).max()
+        )
+        effort = ctrl.effort(t, q, v).tau_full  # the public, validated law itself
+        np.testing.assert_allclose(
+            kernel.tau(y, np.concatenate(ref)), effort, rtol=RTOL, atol=RTOL * np.abs(tau).max()
         )
         ydot = kernel(y, np.concatenate(ref))
         np.testing.assert_array_equal(ydot[: plant.nq], v)

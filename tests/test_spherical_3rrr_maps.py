@@ -53,6 +53,26 @@ def test_batched_measures_match_the_closed_form_in_every_mode(g):
         np.testing.assert_allclose(np.c_[t1, t2], ref, atol=EXACT)
 
 
+def test_leg_roots_batch_the_per_pose_roots_and_close_every_leg():
+    """One leg-coefficient route for one orientation and for a batch: the same roots, and
+    each mode's drives close every loop (F_i = A cos φ + B sin φ + C = 0)."""
+    gg = s3.geometry(rcm_pin.load("spherical_3rrr", theta_12="70", theta_22="75"))
+    R = random_rotations(np.random.default_rng(4), 60)
+    batch = sc.leg_roots(gg, R)
+    a, b, c = sc.leg_coefficients(gg, R)
+    reachable = 0
+    for k, r in enumerate(R):
+        for got, one in zip((x[k] for x in batch), sc.leg_roots(gg, r), strict=True):
+            np.testing.assert_allclose(got, one, rtol=0, atol=EXACT)
+        if np.all(batch[1][k] >= 0):
+            reachable += 1
+            for phi in sc.inverse_position(gg, r):
+                f = a[k] * np.cos(phi) + b[k] * np.sin(phi) + c[k]
+                assert np.max(np.abs(f)) < EXACT
+                assert np.max(np.abs(sc.loop_residual(gg, r, phi))) < EXACT
+    assert reachable > 10
+
+
 def test_signed_determinants_match_the_family_a_b():
     m = rcm_pin.load("spherical_3rrr", theta_12="70", theta_22="75", theta_31="80")
     gg = s3.geometry(m)

@@ -26,7 +26,8 @@ of models. Compiled to C (-O1) and cached on disk by :func:`ocp.compiled.compile
 
 :func:`rcm_pin.control.backends.compiled_unsupported` says why a (plant, controller) pair
 is not mirrored (closed, joint space, angular rows, a redundant task, continuous joints);
-the provider then answers None.
+the provider then answers None. A compiled speed twin of the law, pinned on seeded random
+states to the hot path and to ``ComputedTorque.effort`` (``tests/test_simulate_compiled.py``).
 """
 
 from __future__ import annotations

@@ -3,7 +3,7 @@
 * Serial mechanisms: ``forward`` maps coordinates to the tool pose (Pinocchio forward
   kinematics); ``inverse`` returns every branch of a tool pose (or of the tool position
   only) from the family's closed form where it has one (the RCM mechanisms' analytic IK),
-  else from a multistart Levenberg–Marquardt (:mod:`.serial_ik`). Every branch is checked
+  else from a multistart bounded least squares (:mod:`.serial_ik`). Every branch is checked
   by forward kinematics (the second route) and flagged against the joint limits.
 * Closed mechanisms: ``forward`` (the direct problem) maps drive values to every assembly
   mode; ``inverse`` maps output coordinates to every working mode. Seeds come from the
@@ -126,7 +126,7 @@ def inverse(
     if mech.loops is None:
         method = "closed form, checked by Pinocchio forward kinematics"
         if branches is None:
-            branches, method = numeric_branches(mech, value, output), "multistart LM"
+            branches, method = numeric_branches(mech, value, output), "multistart least squares"
         sols = []
         for b in branches:
             q = mech.check_q(b.q, "branch")

@@ -1,21 +1,23 @@
 """Numeric inverse kinematics of a serial mechanism without a closed form (e.g. arms).
 
-Multistart Levenberg–Marquardt on the output error of :mod:`rcm_pin.model.output`,
+Multistart bounded nonlinear least squares on the output error of
+:mod:`rcm_pin.model.output`,
 
-    e(q) = [p − p_t; log₃(R R_tᵀ)],   δq = −(JᵀJ + λI)⁻¹ Jᵀ e,
+    e(q) = [p − p_t; log₃(R R_tᵀ)],   min ½ |e(q)|²  with  lower ≤ q ≤ upper,
 
-with J the LOCAL_WORLD_ALIGNED frame Jacobian rows of the output coordinates, the iterate
-kept inside the joint limits (projection), λ raised on a failed step and lowered on a good
-one. Starts: the middle of the joint box, then seeded uniform samples. Converged solutions
-(max |e| < :data:`TOL`) are deduplicated; redundant arms have infinitely many, this
-returns the distinct ones it finds. The CasADi layer (``ocp.ik``) is the alternative with
-general constraints.
+by SciPy's trust-region reflective ``least_squares`` (``method="trf"``), J the
+LOCAL_WORLD_ALIGNED frame Jacobian rows of the output coordinates. Starts: the middle of
+the joint box, then seeded uniform samples. Converged solutions (max |e| < :data:`TOL`)
+are deduplicated; redundant arms have infinitely many, this returns the distinct ones it
+finds. The CasADi layer (``ocp.ik``, a compiled projected Levenberg–Marquardt) is the
+alternative with general constraints.
 """
 
 from __future__ import annotations
 
 import numpy as np
 import pinocchio as pin
+from scipy.optimize import least_squares
 
 from rcm_pin.model.family import Branch
 from rcm_pin.model.mechanism import Mechanism
@@ -23,6 +25,9 @@ from rcm_pin.model.output import Output
 
 #: Accepted output error [m, rad].
 TOL = 1e-11
+#: A run stops where a step lowers ½|e|² by less than this fraction (a local minimum with
+#: e ≠ 0: the next start is tried; a zero-residual solve never slows down that much).
+FTOL = 1e-10
 
 
 def _finite_box(mech: Mechanism) -> tuple[np.ndarray, np.ndarray]:
@@ -45,26 +50,38 @@ def _error_and_jacobian(
 def solve_one(
     mech: Mechanism, target: np.ndarray, output: Output, q0: np.ndarray, max_iter: int = 200
 ) -> tuple[np.ndarray, float]:
-    """One LM run from q0; returns (q, max |e|)."""
+    """One bounded least-squares run from q0 (clipped to the box, at most ``max_iter``
+    residual evaluations); returns (q, max |e|)."""
     lo, hi = _finite_box(mech)
-    q = np.clip(np.asarray(q0, dtype=float), lo, hi)
-    lam = 1e-3
-    e, jac = _error_and_jacobian(mech, q, target, output)
-    cost = float(e @ e)
-    for _ in range(max_iter):
-        if float(np.max(np.abs(e), initial=0.0)) < TOL:
-            break
-        h = jac.T @ jac
-        step = -np.linalg.solve(h + lam * (np.diag(np.diag(h)) + 1e-12 * np.eye(len(q))), jac.T @ e)
-        q_new = np.clip(q + step, lo, hi)
-        e_new, jac_new = _error_and_jacobian(mech, q_new, target, output)
-        cost_new = float(e_new @ e_new)
-        if cost_new < cost:
-            q, e, jac, cost, lam = q_new, e_new, jac_new, cost_new, max(lam / 3.0, 1e-12)
-        else:
-            lam *= 4.0
-            if lam > 1e8:
-                break
+    cache: dict[bytes, tuple[np.ndarray, np.ndarray]] = {}
+
+    def evaluate(q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        key = q.tobytes()
+        if key not in cache:  # the Jacobian is asked for at the q of the last residual
+            cache.clear()
+            cache[key] = _error_and_jacobian(mech, q, target, output)
+        return cache[key]
+
+    x0 = np.clip(np.asarray(q0, dtype=float), lo, hi)
+    e0 = evaluate(x0)[0]
+    if float(np.max(np.abs(e0), initial=0.0)) < TOL:  # already there
+        return x0, float(np.max(np.abs(e0), initial=0.0))
+    res = least_squares(
+        lambda q: evaluate(q)[0],
+        x0,
+        jac=lambda q: evaluate(q)[1],
+        bounds=(lo, hi),
+        method="trf",
+        # the dense trust-region solver stalls where J has more columns than rows (a
+        # redundant arm, or a coordinate the output does not depend on): LSMR there
+        tr_solver="exact" if len(e0) >= len(x0) else "lsmr",
+        ftol=FTOL,
+        xtol=1e-15,
+        gtol=1e-15,
+        max_nfev=max_iter,
+    )
+    q = np.clip(res.x, lo, hi)
+    e = evaluate(q)[0]
     return q, float(np.max(np.abs(e), initial=0.0))
 
 

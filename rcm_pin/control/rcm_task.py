@@ -55,12 +55,6 @@ LWA = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 AXES = ("x", "y", "z")
 
 
-def skew(v: np.ndarray) -> np.ndarray:
-    """[v]×, the cross-product matrix: skew(v) @ w = v × w."""
-    x, y, z = v.tolist()
-    return np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
-
-
 @dataclass(frozen=True)
 class RcmTool:
     """A tool shaft on an arm and the trocar it must pass through.
@@ -199,9 +193,9 @@ def rcm_state(model: pin.Model, data: pin.Data, tool: RcmTool) -> RcmState:
     Js = pin.getFrameJacobian(model, data, tool.axis_frame, LWA)
     Jv, Jw = Js[:3], Js[3:]
     Jt = Jv if same else pin.getFrameJacobian(model, data, tool.tip_frame, LWA)[:3]
-    J_tip = Jt - L * (skew(a) @ Jw)
+    J_tip = Jt - L * (pin.skew(a) @ Jw)
     # ∂e_i/∂q = −b_iᵀ J_s + (b_i × r)ᵀ J_ω = b_iᵀ ([r]× J_ω − J_s)
-    J_dist = B.T @ (skew(r) @ Jw - Jv)
+    J_dist = B.T @ (pin.skew(r) @ Jw - Jv)
     J_lam = np.empty((3, Jv.shape[1] + 1))
     J_lam[:, :-1] = (1.0 - lam) * Jv + lam * J_tip
     J_lam[:, -1] = span
@@ -257,7 +251,6 @@ __all__ = [
     "manipulability",
     "rcm_point",
     "rcm_state",
-    "skew",
     "trocar_point",
     "update_kinematics",
 ]

@@ -55,7 +55,8 @@ def _plant_accel(mech: Mechanism, baumgarte: tuple[float, float]) -> Accel:
 
 def initial_state(mech: Mechanism, controller: ComputedTorque) -> np.ndarray:
     """q at the reference's start (or x_T(0)): the task's closed-form inverse (other
-    coordinates 0), else a Levenberg–Marquardt solve from the family's home configuration.
+    coordinates 0), else a bounded least-squares solve (:mod:`rcm_pin.analysis.serial_ik`)
+    from the family's home configuration.
 
     Raises:
         InvalidInputError: a closed mechanism (pass q0), or the start is not reached.

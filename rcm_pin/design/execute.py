@@ -19,10 +19,8 @@ from __future__ import annotations
 import os
 import time
 from collections.abc import Callable, Iterable, Iterator
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import as_completed
 from dataclasses import dataclass
-from multiprocessing import get_all_start_methods, get_context
-from multiprocessing.context import BaseContext
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -32,6 +30,7 @@ from rcm_pin.design import store
 from rcm_pin.design.evaluate import evaluate_chunk, model_hash
 from rcm_pin.design.study import Design, Study, designs, validate
 from rcm_pin.errors import InvalidInputError, require
+from rcm_pin.processes import process_pool
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -72,16 +71,6 @@ def chunks(items: list[Design], size: int) -> list[list[Design]]:
     return [items[i : i + size] for i in range(0, len(items), size)]
 
 
-def _context() -> BaseContext:
-    """A fork server that has imported rcm_pin once (workers fork from it: no import of
-    Pinocchio per process, no threads of the caller inherited); spawn where there is none."""
-    if "forkserver" not in get_all_start_methods():
-        return get_context("spawn")
-    context = get_context("forkserver")
-    context.set_forkserver_preload(["rcm_pin.design.evaluate"])
-    return context
-
-
 def _local(
     parts: list[list[Design]], metrics: tuple[str, ...], workers: int
 ) -> Iterator[list[dict[str, Any]]]:
@@ -89,7 +78,7 @@ def _local(
         for part in parts:
             yield evaluate_chunk(part, metrics)
         return
-    with ProcessPoolExecutor(max_workers=workers, mp_context=_context()) as pool:
+    with process_pool(workers, ["rcm_pin.design.evaluate"]) as pool:
         futures = [pool.submit(evaluate_chunk, part, metrics) for part in parts]
         for future in as_completed(futures):
             yield future.result()

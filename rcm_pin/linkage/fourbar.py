@@ -23,6 +23,14 @@ folded (A–O1–B, |O1 B| = l2 − l1, ψ = ψ_max) or extended (O1–A–B, |O
 monotone in cos θ: its extremes over a crank turn are at θ = 0 and θ = π. Time ratio: the
 crank arcs between the dead centres, the slower stroke over the faster at constant crank
 speed (≥ 1). Grashof: s + l ≤ p + q (s, l the shortest and longest of l0..l3).
+
+The one Grashof rule of rcm-pin (the four-bar family and the eye linkage use it): the
+boundary s + l = p + q (to :data:`GRASHOF_TOL` relative) is the *change-point* class, a
+class of its own: the links fold flat there (all four collinear, a type-2 pose on the
+crank's turn), so no tie is a crank–rocker, e.g. (l0, l1, l2, l3) = (3, 1, 2, 2) with the
+crank strictly the shortest, or a parallelogram. A *crank–rocker* is strictly Grashof
+(s + l < p + q) with the crank strictly the shortest link (a crank tied with the frame is
+a double-crank, tied with the coupler or the rocker no crank–rocker).
 """
 
 from __future__ import annotations
@@ -32,8 +40,11 @@ from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from rcm_pin.errors import InvalidInputError
+from rcm_pin.geometry import circle_intersections, circle_points
+from rcm_pin.rotations import wrap_angle
 
 #: Grashof classes by the shortest link (s + l < p + q), then the boundary and the rest.
 GRASHOF_CLASSES = {
@@ -44,7 +55,8 @@ GRASHOF_CLASSES = {
 }
 CHANGE_POINT = "change-point"  # s + l = p + q: the links can fold flat
 NON_GRASHOF = "non-Grashof triple-rocker"  # s + l > p + q: no link turns fully
-#: Relative tolerance of the Grashof equality s + l = p + q (round-off of the lengths).
+#: Relative tolerance of the Grashof equality s + l = p + q (round-off of the lengths), and
+#: of |cos μ| ≤ 1 in :func:`transmission_angle`.
 GRASHOF_TOL = 1e-12
 
 
@@ -108,41 +120,60 @@ class FourBar:
 
     @property
     def crank_rocker(self) -> bool:
-        """Grashof (strictly) with the crank strictly the shortest link."""
+        """Strictly Grashof with the crank strictly the shortest link (module docstring:
+        a change-point linkage is not a crank–rocker)."""
         return self.grashof_class == GRASHOF_CLASSES[1] and self.l1 < min(self.l0, self.l2, self.l3)
 
 
-def crank_point(g: FourBar, theta: np.ndarray) -> np.ndarray:
+def crank_point(g: FourBar, theta: ArrayLike) -> np.ndarray:
     """A(θ) (…, 2) [m]."""
     t = np.asarray(theta, dtype=float)
     return g.l1 * np.stack([np.cos(t), np.sin(t)], axis=-1)
 
 
+def rocker_point(g: FourBar, psi: ArrayLike) -> np.ndarray:
+    """B(ψ) (…, 2) [m]."""
+    t = np.asarray(psi, dtype=float)
+    return np.stack([g.l0 + g.l3 * np.cos(t), g.l3 * np.sin(t)], axis=-1)
+
+
 def rocker_angle(g: FourBar, theta: np.ndarray) -> np.ndarray:
     """ψ(θ) [rad] on the upper circuit (B left of A → O2); NaN where the loop does not close.
 
-    B is on the circles (A, l2) and (O2, l3): with d = O2 − A, r = |d|, e = d / r, n = e
-    turned by +π/2, a = (r² + l2² − l3²) / (2 r), h = √(l2² − a²): B = A + a e + h n.
+    B is on the circles (A, l2) and (O2, l3), the intersection left of A → O2
+    (:func:`rcm_pin.geometry.circle_intersections`).
     """
-    a_pt = crank_point(g, theta)
-    d = np.array([g.l0, 0.0]) - a_pt
-    r = np.hypot(d[..., 0], d[..., 1])
-    e = d / r[..., None]
-    n = np.stack([-e[..., 1], e[..., 0]], axis=-1)
-    along = (r * r + g.l2**2 - g.l3**2) / (2.0 * r)
-    with np.errstate(invalid="ignore"):
-        h = np.sqrt(g.l2**2 - along**2)
-    b = a_pt + along[..., None] * e + h[..., None] * n
+    b = circle_intersections(crank_point(g, theta), g.l2, (g.l0, 0.0), g.l3)[..., 0, :]
     return np.arctan2(b[..., 1], b[..., 0] - g.l0)
 
 
+def rocker_angles(g: FourBar, theta: float) -> list[float]:
+    """ψ [rad] of every assembly mode at crank angle θ (0, 1 or 2), the upper circuit
+    (B left of the line A → O2) first."""
+    a = crank_point(g, theta)
+    return [float(np.arctan2(b[1], b[0] - g.l0)) for b in circle_points(a, g.l2, (g.l0, 0.0), g.l3)]
+
+
+def crank_angles(g: FourBar, psi: float) -> list[float]:
+    """θ [rad] of every working mode at rocker angle ψ (0, 1 or 2): A on the circles
+    (O1, l1) and (B, l2), left of the line O1 → B first."""
+    b = rocker_point(g, psi)
+    return [float(np.arctan2(a[1], a[0])) for a in circle_points((0.0, 0.0), g.l1, b, g.l2)]
+
+
+def coupler_angle(g: FourBar, theta: ArrayLike, psi: ArrayLike) -> np.ndarray:
+    """The coupler's angle relative to the crank, ∠(B − A) − θ [rad] (not wrapped)."""
+    u = rocker_point(g, psi) - crank_point(g, theta)
+    return np.arctan2(u[..., 1], u[..., 0]) - np.asarray(theta, dtype=float)
+
+
 def transmission_angle(g: FourBar, theta: np.ndarray) -> np.ndarray:
-    """μ(θ) [rad] in [0, π] (module docstring); NaN where the loop does not close."""
+    """μ(θ) [rad] in [0, π] (module docstring); NaN where the loop does not close, i.e.
+    |cos μ| > 1 + :data:`GRASHOF_TOL` (within it: round-off at a type-2 pose, μ = 0 or π)."""
     c = (g.l2**2 + g.l3**2 - g.l0**2 - g.l1**2 + 2.0 * g.l0 * g.l1 * np.cos(theta)) / (
         2.0 * g.l2 * g.l3
     )
-    with np.errstate(invalid="ignore"):
-        return np.where(np.abs(c) <= 1.0, np.arccos(np.clip(c, -1.0, 1.0)), np.nan)
+    return np.where(np.abs(c) <= 1.0 + GRASHOF_TOL, np.arccos(np.clip(c, -1.0, 1.0)), np.nan)
 
 
 def transmission_range(g: FourBar) -> tuple[float, float]:
@@ -166,12 +197,6 @@ def crank_band_below(g: FourBar, mu: float) -> float | None:
     return math.pi if c <= -1.0 else math.acos(c)
 
 
-def _upper_intersection(r0: float, g: FourBar) -> np.ndarray:
-    """The point above the frame line at distance r0 from O1 and l3 from O2."""
-    x = (r0 * r0 - g.l3**2 + g.l0**2) / (2.0 * g.l0)
-    return np.array([x, math.sqrt(max(r0 * r0 - x * x, 0.0))])
-
-
 def dead_centres(g: FourBar) -> tuple[DeadCentre, DeadCentre]:
     """(folded, extended) dead centres of a crank–rocker on the upper circuit.
 
@@ -188,15 +213,10 @@ def dead_centres(g: FourBar) -> tuple[DeadCentre, DeadCentre]:
         )
     out = []
     for sign in (-1.0, 1.0):
-        b = _upper_intersection(g.l2 + sign * g.l1, g)
+        b = circle_intersections((0.0, 0.0), g.l2 + sign * g.l1, (g.l0, 0.0), g.l3)[0]
         theta = math.atan2(b[1], b[0]) + (math.pi if sign < 0 else 0.0)
-        out.append(DeadCentre(_wrap(theta), math.atan2(b[1], b[0] - g.l0)))
+        out.append(DeadCentre(float(wrap_angle(theta)), math.atan2(b[1], b[0] - g.l0)))
     return out[0], out[1]
-
-
-def _wrap(angle: float) -> float:
-    """Angle in [−π, π)."""
-    return (angle + math.pi) % (2.0 * math.pi) - math.pi
 
 
 @dataclass(frozen=True)
@@ -264,11 +284,15 @@ __all__ = [
     "DeadCentre",
     "FourBar",
     "Performance",
+    "coupler_angle",
+    "crank_angles",
     "crank_band_below",
     "crank_point",
     "dead_centres",
     "performance",
     "rocker_angle",
+    "rocker_angles",
+    "rocker_point",
     "transmission_angle",
     "transmission_range",
 ]

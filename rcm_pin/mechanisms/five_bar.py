@@ -28,6 +28,7 @@ import numpy as np
 
 from rcm_pin.control.references import QuinticPath
 from rcm_pin.errors import UnreachablePoseError
+from rcm_pin.geometry import circle_points
 from rcm_pin.model.family import Branch, Family
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import Output
@@ -121,21 +122,10 @@ def full_q(g: GeometryFiveBar, p: np.ndarray, q: np.ndarray) -> np.ndarray:
 
 
 def direct_position(g: GeometryFiveBar, q: np.ndarray) -> np.ndarray:
-    """Assembly modes P (N, 2), N ∈ {0, 1, 2}: intersections of circles (B_i, l2_i)."""
+    """Assembly modes P (N, 2), N ∈ {0, 1, 2}: intersections of circles (B_i, l2_i), P left
+    of B_1 → B_2 first."""
     bb = g.elbows(q)
-    d_vec = bb[1] - bb[0]
-    d = float(np.linalg.norm(d_vec))
-    r1, r2 = g.l2
-    if d == 0.0 or d > r1 + r2 or d < abs(r1 - r2):
-        return np.zeros((0, 2))
-    a = (d * d + r1 * r1 - r2 * r2) / (2.0 * d)
-    h = np.sqrt(max(r1 * r1 - a * a, 0.0))
-    e = d_vec / d
-    mid = bb[0] + a * e
-    n = np.array([-e[1], e[0]])
-    if h == 0.0:
-        return mid[None]
-    return np.array([mid + h * n, mid - h * n])
+    return np.array(circle_points(bb[0], g.l2[0], bb[1], g.l2[1])).reshape(-1, 2)
 
 
 # ============================================================================ the family

@@ -17,21 +17,29 @@ Angeles–Gosselin form A ψ̇ = −B q̇1 with u = B − A:
 type 2 (A = 0): coupler and rocker aligned (transmission angle 0 or π); type 1 (B = 0):
 crank and coupler aligned (the rocker's extreme positions).
 
-Transmission angle μ (between coupler and rocker at B):
-    cos μ = (l2² + l3² − l0² − l1² + 2 l0 l1 cos q1) / (2 l2 l3).
-Grashof: s + l ≤ p + q (s, l the shortest and longest link); a crank–rocker when, in
-addition, the crank is the shortest link.
+Positions, transmission angle μ, the Grashof class and the dead centres are
+:mod:`rcm_pin.linkage.fourbar`'s (one Grashof rule: a change-point linkage, s + l = p + q,
+is not a crank–rocker); this module adapts them to the family's model.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from rcm_pin.errors import UnreachablePoseError
+from rcm_pin.linkage.fourbar import (
+    FourBar,
+    coupler_angle,
+    crank_angles,
+    crank_point,
+    dead_centres,
+    performance,
+    rocker_angles,
+    rocker_point,
+    transmission_angle,
+)
 from rcm_pin.model.family import Branch, Family
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import Output
@@ -40,114 +48,44 @@ from rcm_pin.rotations import wrap_angle
 #: Working-mode labels of the inverse problem.
 MODES = ("+", "-")
 
-
-@dataclass(frozen=True)
-class GeometryFourBar:
-    """Link lengths [m]: frame l0, crank l1, coupler l2, rocker l3."""
-
-    l0: float
-    l1: float
-    l2: float
-    l3: float
-
-    @classmethod
-    def from_params(cls, p: Mapping[str, float]) -> GeometryFourBar:
-        """From the sidecar ``params``."""
-        return cls(float(p["frame"]), float(p["crank"]), float(p["coupler"]), float(p["rocker"]))
-
-    @property
-    def grashof(self) -> bool:
-        """s + l ≤ p + q: some link turns fully."""
-        links = sorted((self.l0, self.l1, self.l2, self.l3))
-        return links[0] + links[3] <= links[1] + links[2]
-
-    @property
-    def crank_rocker(self) -> bool:
-        """Grashof with the crank strictly the shortest link (it turns fully, the rocker
-        swings); a tie (e.g. a parallelogram) is a change-point linkage, not a crank–rocker."""
-        return self.grashof and self.l1 < min(self.l0, self.l2, self.l3)
+#: The geometry of the family: the linkage layer's four-bar (l0 frame, l1 crank, l2
+#: coupler, l3 rocker [m]; ``grashof``, ``grashof_class``, ``crank_rocker``).
+GeometryFourBar = FourBar
+#: Rocker angles ψ of every assembly mode at a crank angle, B left of A → O2 first.
+direct_position = rocker_angles
+#: Crank angles of the working modes ``+``, ``-`` at a rocker angle (A left of O1 → B first).
+inverse_position = crank_angles
 
 
-def _circles(c0: np.ndarray, r0: float, c1: np.ndarray, r1: float) -> list[np.ndarray]:
-    """Intersections of two circles, left of c0 → c1 first (0, 1 or 2 points)."""
-    d_vec = c1 - c0
-    d = float(np.hypot(*d_vec))
-    if d == 0.0 or d > r0 + r1 or d < abs(r0 - r1):
-        return []
-    a = (d * d + r0 * r0 - r1 * r1) / (2.0 * d)
-    h = np.sqrt(max(r0 * r0 - a * a, 0.0))
-    e = d_vec / d
-    mid, n = c0 + a * e, np.array([-e[1], e[0]])
-    return [mid] if h == 0.0 else [mid + h * n, mid - h * n]
-
-
-def full_q(g: GeometryFourBar, q1: float, psi: float) -> np.ndarray:
+def full_q(g: FourBar, q1: float, psi: float) -> np.ndarray:
     """Pinocchio configuration (O1, A, O2) [rad] for crank q1 and rocker ψ."""
-    a = g.l1 * np.array([np.cos(q1), np.sin(q1)])
-    b = np.array([g.l0 + g.l3 * np.cos(psi), g.l3 * np.sin(psi)])
-    theta_a = np.arctan2(b[1] - a[1], b[0] - a[0]) - q1
-    return wrap_angle(np.array([q1, theta_a, psi]))
+    return wrap_angle(np.array([q1, coupler_angle(g, q1, psi), psi]))
 
 
-def direct_position(g: GeometryFourBar, q1: float) -> list[float]:
-    """Rocker angles ψ of every assembly mode for crank angle q1 (0, 1 or 2), B left of
-    the line A → O2 (above it) first."""
-    a = g.l1 * np.array([np.cos(q1), np.sin(q1)])
-    o2 = np.array([g.l0, 0.0])
-    return [float(np.arctan2(b[1], b[0] - g.l0)) for b in _circles(a, g.l2, o2, g.l3)]
-
-
-def inverse_position(g: GeometryFourBar, psi: float) -> list[float]:
-    """Crank angles q1 of the working modes ``+``, ``-`` for rocker angle ψ."""
-    b = np.array([g.l0 + g.l3 * np.cos(psi), g.l3 * np.sin(psi)])
-    return [float(np.arctan2(a[1], a[0])) for a in _circles(np.zeros(2), g.l1, b, g.l2)]
-
-
-def transmission_angle(g: GeometryFourBar, q1: np.ndarray) -> np.ndarray:
-    """μ(q1) [rad] in [0, π] (module docstring)."""
-    c = (g.l2**2 + g.l3**2 - g.l0**2 - g.l1**2 + 2.0 * g.l0 * g.l1 * np.cos(q1)) / (
-        2.0 * g.l2 * g.l3
-    )
-    return np.arccos(np.clip(c, -1.0, 1.0))
-
-
-def ab_matrices(g: GeometryFourBar, q1: float, psi: float) -> tuple[np.ndarray, np.ndarray]:
+def ab_matrices(g: FourBar, q1: float, psi: float) -> tuple[np.ndarray, np.ndarray]:
     """A = ∂F/∂ψ and B = ∂F/∂q1 (1 × 1) of the loop equation [m²/rad]."""
-    a = g.l1 * np.array([np.cos(q1), np.sin(q1)])
-    b = np.array([g.l0 + g.l3 * np.cos(psi), g.l3 * np.sin(psi)])
-    u = b - a
+    u = rocker_point(g, psi) - crank_point(g, q1)
     dA = 2.0 * u @ (g.l3 * np.array([-np.sin(psi), np.cos(psi)]))
     dB = -2.0 * u @ (g.l1 * np.array([-np.sin(q1), np.cos(q1)]))
     return np.array([[dA]]), np.array([[dB]])
 
 
-def rocker_range(g: GeometryFourBar) -> tuple[float, float]:
-    """Smallest and largest rocker angle ψ [rad] of a crank–rocker, exactly: at the dead
-    centres the crank and the coupler are aligned, |O1 B| = l2 ∓ l1, so B is on the circles
-    (O1, l2 ∓ l1) and (O2, l3) (the intersection above the frame line, the assembly mode of
-    ``home``).
+def rocker_range(g: FourBar) -> tuple[float, float]:
+    """Smallest and largest rocker angle ψ [rad] of a crank–rocker, exactly: the extended
+    and the folded dead centre (:func:`rcm_pin.linkage.fourbar.dead_centres`; the
+    intersection above the frame line, the assembly mode of ``home``).
 
     Raises:
-        InvalidInputError: the crank does not turn fully (not a crank–rocker).
+        InvalidInputError: not a crank–rocker (the crank does not turn fully).
     """
-    if not g.crank_rocker:
-        from rcm_pin.errors import InvalidInputError
-
-        raise InvalidInputError(
-            f"links {g.l0, g.l1, g.l2, g.l3} are not a crank-rocker (the crank does not turn "
-            "fully); valid: Grashof with the crank strictly the shortest link"
-        )
-    o2 = np.array([g.l0, 0.0])
-    angles = []
-    for r in (g.l2 - g.l1, g.l2 + g.l1):
-        b = max(_circles(np.zeros(2), r, o2, g.l3), key=lambda p: p[1])
-        angles.append(float(np.arctan2(b[1], b[0] - g.l0)))
-    return min(angles), max(angles)
+    folded, extended = dead_centres(g)
+    return extended.rocker, folded.rocker
 
 
-def geometry(mech: Mechanism) -> GeometryFourBar:
+def geometry(mech: Mechanism) -> FourBar:
     """The closed-form geometry of a loaded four-bar (from its sidecar parameters)."""
-    return GeometryFourBar.from_params(mech._require_loops().params)
+    p = mech._require_loops().params
+    return FourBar(float(p["frame"]), float(p["crank"]), float(p["coupler"]), float(p["rocker"]))
 
 
 class FourBarFamily(Family):
@@ -202,12 +140,10 @@ class FourBarFamily(Family):
     def design_metrics(self) -> dict[str, Any]:
         """Swing, worst transmission angle and time ratio over a crank turn (NaN unless a
         crank–rocker), by :func:`rcm_pin.linkage.fourbar.performance`."""
-        from rcm_pin.linkage.fourbar import FourBar, performance
         from rcm_pin.model.metric import DesignMetric
 
         def perf(mech: Mechanism) -> Any:
-            g = geometry(mech)
-            return performance(FourBar(g.l0, g.l1, g.l2, g.l3))
+            return performance(geometry(mech))
 
         def swing(mech: Mechanism) -> float:
             r = perf(mech).rocker_range

@@ -21,6 +21,7 @@ from ocp.symbolic import SymbolicModel
 from ocp.tracking import TrackingResult
 from rcm_pin.mechanisms.rcm import analytic_ik, closed_form
 from rcm_pin.report.framework import Section
+from rcm_pin.rotations import wrap_angle
 
 FIGURE = "ocp_tracking.png"
 
@@ -78,7 +79,7 @@ def ik_branch_stats(n: int = 1000, seed: int = 11) -> dict[str, float]:
         times.append(time.perf_counter() - start)
         iters.append(res.iterations)
         d = mech.from_pin(res.q) - target
-        d[[0, 1, 3, 4, 5]] = (d[[0, 1, 3, 4, 5]] + np.pi) % (2 * np.pi) - np.pi
+        d[[0, 1, 3, 4, 5]] = wrap_angle(d[[0, 1, 3, 4, 5]])
         hits += bool(res.success and np.abs(d).max() < 1e-8)
     return {
         "rate": hits / n,

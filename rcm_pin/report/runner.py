@@ -30,15 +30,15 @@ import shutil
 import sys
 import time
 from collections.abc import Callable, Iterator
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures import as_completed
 from dataclasses import asdict, dataclass
 from functools import cache, lru_cache
 from importlib import metadata
-from multiprocessing import get_all_start_methods, get_context
 from pathlib import Path
 
 from rcm_pin.errors import MissingExtraError, require
 from rcm_pin.model.resources import urdf_dir, xacro_dir
+from rcm_pin.processes import process_pool
 from rcm_pin.report.framework import Section
 
 SectionFn = Callable[[Path], Section]
@@ -195,15 +195,6 @@ def _resolve(module: str) -> SectionFn:
     return section_function(module)
 
 
-def _pool(jobs: int, modules: list[str]) -> ProcessPoolExecutor:
-    """Workers forked from a server that imported the sections once (spawn without one)."""
-    if "forkserver" not in get_all_start_methods():
-        return ProcessPoolExecutor(max_workers=jobs, mp_context=get_context("spawn"))
-    context = get_context("forkserver")
-    context.set_forkserver_preload(modules)
-    return ProcessPoolExecutor(max_workers=jobs, mp_context=context)
-
-
 def run_sections(
     chosen: list[tuple[str, str]], out_dir: Path, jobs: int | None = None, cache: bool = True
 ) -> Iterator[Outcome]:
@@ -222,7 +213,7 @@ def run_sections(
         for name, module in todo:
             yield run_one(name, module, out_dir, keys[name])
         return
-    with _pool(min(jobs, len(todo)), [m for _, m in todo]) as pool:
+    with process_pool(min(jobs, len(todo)), [m for _, m in todo]) as pool:
         futures = [pool.submit(run_one, n, m, out_dir, keys[n]) for n, m in todo]
         for future in as_completed(futures):
             yield future.result()

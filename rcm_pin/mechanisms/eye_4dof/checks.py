@@ -26,8 +26,9 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from rcm_pin.mechanisms.eye_4dof.closed_form import gaze_angles, ry, rz
+from rcm_pin.mechanisms.eye_4dof.closed_form import gaze_angles
 from rcm_pin.model.mechanism import Mechanism
+from rcm_pin.rotations import rot_y, rot_z
 
 #: Joints whose links touch through a cut pair (the closures B, P, K).
 CUT_PAIRS = (("A", "O2"), ("D", "L"), ("U", "O3"))
@@ -123,7 +124,7 @@ def listing_roll(elevation: float, azimuth: float) -> float:
 
 def listing_roll_from_rotation(elevation: float, azimuth: float) -> float:
     """The same from the Listing rotation about X × d by ∠(X, d), d the gaze direction."""
-    d = ry(-elevation) @ rz(azimuth) @ np.array([1.0, 0.0, 0.0])
+    d = rot_y(-elevation) @ rot_z(azimuth) @ np.array([1.0, 0.0, 0.0])
     axis = np.cross([1.0, 0.0, 0.0], d)
     s = float(np.linalg.norm(axis))
     if s == 0.0:

@@ -29,7 +29,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from rcm_pin.linkage.fourbar import FourBar, rocker_angle
+from rcm_pin.geometry import circle_offsets
+from rcm_pin.linkage.fourbar import FourBar, coupler_angle, rocker_angle, rocker_point
+from rcm_pin.rotations import rot_x, rot_y, rot_z, wrap_angle
 
 #: Drive joints in input order.
 DRIVES = ("O1", "O3", "lid", "roll")
@@ -62,24 +64,6 @@ class EyeGeometry:
         return FourBar(self.frame, self.crank, self.coupler, self.rocker)
 
 
-def ry(t: float) -> np.ndarray:
-    """Rotation about Y."""
-    c, s = math.cos(t), math.sin(t)
-    return np.array([[c, 0.0, s], [0.0, 1.0, 0.0], [-s, 0.0, c]])
-
-
-def rz(t: float) -> np.ndarray:
-    """Rotation about Z."""
-    c, s = math.cos(t), math.sin(t)
-    return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
-
-
-def rx(t: float) -> np.ndarray:
-    """Rotation about X."""
-    c, s = math.cos(t), math.sin(t)
-    return np.array([[1.0, 0.0, 0.0], [0.0, c, -s], [0.0, s, c]])
-
-
 def yaw_angle(g: EyeGeometry, theta2: float) -> float:
     """Principal α [rad] of the yoke; NaN when l10 |sin θ2| > l4."""
     ratio = g.l10 * math.sin(theta2) / g.l4
@@ -93,19 +77,19 @@ def joint_values(g: EyeGeometry, drives: np.ndarray) -> dict[str, float] | None:
     alpha = yaw_angle(g, t2)
     if not (math.isfinite(psi) and math.isfinite(alpha)):
         return None
-    a = g.crank * np.array([math.cos(t1), math.sin(t1)])
-    b = np.array([g.frame + g.rocker * math.cos(psi), g.rocker * math.sin(psi)])
-    theta_a = math.atan2(b[1] - a[1], b[0] - a[0]) - t1
+    theta_a = float(coupler_angle(g.pitch, t1, psi))
     e = psi - math.pi / 2
-    p_e = ry(-e) @ np.array([-g.l4 * math.cos(alpha), -g.l4 * math.sin(alpha), -g.l44])
-    p_k = ry(-g.up) @ np.array(
+    p_e = rot_y(-e) @ np.array([-g.l4 * math.cos(alpha), -g.l4 * math.sin(alpha), -g.l44])
+    p_k = rot_y(-g.up) @ np.array(
         [-(g.l00 + g.l10 * math.cos(t2)), -g.l10 * math.sin(t2), -(g.l44 + g.h)]
     )
-    basis = np.column_stack([(ry(-e) @ [-1.0, 0, 0])[[0, 2]], (ry(-g.up) @ [0, 0, 1.0])[[0, 2]]])
+    basis = np.column_stack(
+        [(rot_y(-e) @ [-1.0, 0, 0])[[0, 2]], (rot_y(-g.up) @ [0, 0, 1.0])[[0, 2]]]
+    )
     s, u = np.linalg.solve(basis, (p_k - p_e)[[0, 2]])
-    wrap = lambda x: (x + math.pi) % (2 * math.pi) - math.pi  # noqa: E731
+    theta_a, psi = (float(wrap_angle(x)) for x in (theta_a, psi))
     return {
-        "O1": t1, "A": wrap(theta_a), "O2": wrap(psi), "C": alpha, "D": -alpha,
+        "O1": t1, "A": theta_a, "O2": psi, "C": alpha, "D": -alpha,
         "E": float(s), "F": e - g.up, "U": float(u), "L": alpha, "roll": roll,
         "O3": t2, "lid": lid,
     }  # fmt: skip
@@ -116,7 +100,7 @@ def gaze_angles(rot: np.ndarray) -> tuple[float, float, float]:
     d = rot[:, 0]
     alpha = math.asin(max(-1.0, min(1.0, float(d[1]))))
     e = math.atan2(float(d[2]), float(d[0]))
-    m = rz(-alpha) @ ry(e) @ rot
+    m = rot_z(-alpha) @ rot_y(e) @ rot
     return e, alpha, math.atan2(float(m[2, 1]), float(m[2, 2]))
 
 
@@ -125,22 +109,18 @@ def camera_rotation(g: EyeGeometry, drives: np.ndarray) -> np.ndarray | None:
     j = joint_values(g, drives)
     if j is None:
         return None
-    return ry(-(j["O2"] - math.pi / 2)) @ rz(j["L"]) @ rx(j["roll"])
+    return rot_y(-(j["O2"] - math.pi / 2)) @ rot_z(j["L"]) @ rot_x(j["roll"])
 
 
 def pitch_cranks(g: EyeGeometry, elevation: float) -> list[float]:
-    """Crank angles θ1 of both working modes for a gaze elevation (A on the circles
-    (O1, l1) and (B, l2), left of O1 → B first)."""
-    psi = elevation + math.pi / 2
-    b = np.array([g.frame + g.rocker * math.cos(psi), g.rocker * math.sin(psi)])
-    d = float(np.hypot(*b))
-    r0, r1 = g.crank, g.coupler
-    if d == 0.0 or d > r0 + r1 or d < abs(r0 - r1):
+    """Crank angles θ1 of both working modes for a gaze elevation: A on the circles
+    (O1, l1) and (B, l2), left of O1 → B first, θ1 = ∠B ± atan2(h, a) (not wrapped, so
+    each mode's θ1 is continuous in the elevation; :mod:`rcm_pin.geometry`)."""
+    b = rocker_point(g.pitch, elevation + math.pi / 2)
+    along, across = (float(x) for x in circle_offsets(np.hypot(*b), g.crank, g.coupler))
+    if not math.isfinite(along):
         return []
-    x = (d * d + r0 * r0 - r1 * r1) / (2 * d)
-    hh = math.sqrt(max(r0 * r0 - x * x, 0.0))
-    base = math.atan2(b[1], b[0])
-    delta = math.atan2(hh, x)
+    base, delta = math.atan2(b[1], b[0]), math.atan2(across, along)
     return [base + delta, base - delta]
 
 
@@ -160,9 +140,6 @@ __all__ = [
     "gaze_angles",
     "joint_values",
     "pitch_cranks",
-    "rx",
-    "ry",
-    "rz",
     "yaw_angle",
     "yaw_cranks",
 ]

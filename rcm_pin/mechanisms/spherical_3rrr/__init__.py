@@ -151,10 +151,7 @@ class Spherical3RRRFamily(Family):
         g = geometry(mech)
         n_rot = min(int(options.get("samples", 20_000)), 20_000)
         rots = random_rotations(np.random.default_rng(int(options.get("seed", 0))), n_rot)
-        cl = np.einsum("iba,sib->sia", g.B, np.einsum("sab,ib->sia", rots, g.v0))
-        a, b = np.sin(g.t1) * cl[..., 1], -np.sin(g.t1) * cl[..., 0]
-        c = np.cos(g.t1) * cl[..., 2] - np.cos(g.t2)
-        reach = float(np.mean(np.all(a * a + b * b - c * c >= -sc.DELTA_TOL, axis=1)))
+        reach = float(np.mean(np.all(sc.leg_roots(g, rots)[1] >= -sc.DELTA_TOL, axis=1)))
         out: dict[str, Any] = {"orientations": n_rot, "reachable_share": reach}
         if g.agile_eye:
             axis = maps.symmetry_axis(g)

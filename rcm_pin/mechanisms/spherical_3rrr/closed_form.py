@@ -104,27 +104,37 @@ class GeometrySpherical:
 
 
 def intermediate_axes(g: GeometrySpherical, phi: np.ndarray) -> np.ndarray:
-    """w_i (3, 3) for drive angles φ (3,) [rad]."""
+    """w_i (..., 3, 3) for drive angles φ (..., 3) [rad]."""
     local = np.stack([np.zeros(3), np.sin(g.t1), np.cos(g.t1)], axis=-1)
-    return np.einsum("ijk,ikl,il->ij", g.B, rot_z(phi), local)
+    return np.einsum("iab,...ibc,ic->...ia", g.B, rot_z(phi), local)
+
+
+def platform_axes(g: GeometrySpherical, R: np.ndarray) -> np.ndarray:
+    """v_i = R v_i0 (..., 3, 3), one per row, at orientations R (..., 3, 3)."""
+    return g.v0 @ np.swapaxes(R, -1, -2)
 
 
 def loop_residual(g: GeometrySpherical, R: np.ndarray, phi: np.ndarray) -> np.ndarray:
     """F_i = w_i·v_i − cos θ_i2 (3,) [1]."""
-    v = g.v0 @ R.T
-    return np.sum(intermediate_axes(g, phi) * v, axis=1) - np.cos(g.t2)
+    return np.sum(intermediate_axes(g, phi) * platform_axes(g, R), axis=1) - np.cos(g.t2)
+
+
+def leg_coefficients(g: GeometrySpherical, R: np.ndarray) -> tuple[np.ndarray, ...]:
+    """(A, B, C) (..., 3) of F_i = A cos φ_i + B sin φ_i + C at orientations R (..., 3, 3):
+    with c = B_iᵀ v_i, A = sin θ_i1 c_y, B = −sin θ_i1 c_x, C = cos θ_i1 c_z − cos θ_i2."""
+    cl = np.einsum("iba,...ib->...ia", g.B, platform_axes(g, R))  # c = B_iᵀ v_i
+    s1 = np.sin(g.t1)
+    return s1 * cl[..., 1], -s1 * cl[..., 0], np.cos(g.t1) * cl[..., 2] - np.cos(g.t2)
 
 
 def leg_roots(g: GeometrySpherical, R: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Per leg the roots (3, 2) [rad] (``+`` then ``-``), Δ (3,) and ρ (3,) (module docstring)."""
-    cl = np.einsum("ikj,ik->ij", g.B, g.v0 @ R.T)  # c = B_iᵀ v_i
-    a = np.sin(g.t1) * cl[:, 1]
-    b = -np.sin(g.t1) * cl[:, 0]
-    cc = np.cos(g.t1) * cl[:, 2] - np.cos(g.t2)
+    """Per leg the roots (..., 3, 2) [rad] (``+`` then ``-``), Δ (..., 3) and ρ (..., 3) at
+    orientations R (..., 3, 3) (module docstring)."""
+    a, b, cc = leg_coefficients(g, R)
     delta = a * a + b * b - cc * cc
     d = np.arctan2(b, a)
     chi = np.arctan2(np.sqrt(np.maximum(delta, 0.0)), -cc)
-    return wrap(np.stack([d - chi, d + chi], axis=1)), delta, np.hypot(a, b)
+    return wrap(np.stack([d - chi, d + chi], axis=-1)), delta, np.hypot(a, b)
 
 
 def inverse_position(g: GeometrySpherical, R: np.ndarray) -> np.ndarray:
@@ -169,7 +179,7 @@ def direct_position(
                     v1 = sb * n1 / np.linalg.norm(n1)
                     v3 = det0 * np.cross(v1, v2)
                 R = np.stack([v1, v2, v3], axis=1) @ v0  # R = Q V0ᵀ with V0 = v0ᵀ
-                along = np.abs(np.sum(g.u * (v0 @ R.T), axis=1)) > 1.0 - 1e-9
+                along = np.abs(np.sum(g.u * platform_axes(g, R), axis=1)) > 1.0 - 1e-9
                 if degenerate or not np.all(along):
                     out.append(R)
     return out
@@ -182,7 +192,7 @@ def joint_angles(g: GeometrySpherical, R: np.ndarray, phi: np.ndarray) -> np.nda
     the platform's frame platform_v_i = R B_i Rx(−θ_i1) Ry(−θ_i2) when the leg is closed.
     """
     fwb = g.B @ rot_z(phi) @ rot_x(-g.t1)  # frames of the w joints before their rotation
-    vl = np.einsum("ikj,ik->ij", fwb, g.v0 @ R.T)
+    vl = np.einsum("ikj,ik->ij", fwb, platform_axes(g, R))
     psi_w = np.arctan2(-vl[:, 1], -vl[:, 0])
     before_v = fwb @ rot_z(psi_w) @ rot_y(-g.t2)  # frames of the v joints before rotation
     m = np.swapaxes(before_v, -1, -2) @ R @ g.B @ rot_x(-g.t1) @ rot_y(-g.t2)
@@ -193,9 +203,7 @@ def ab_matrices(
     g: GeometrySpherical, R: np.ndarray, phi: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
     """A (rows (v_i × w_i)ᵀ) and B (diag u_i·(w_i × v_i)) of A ω = −B φ̇ [1]."""
-    w = intermediate_axes(g, phi)
-    v = g.v0 @ R.T
-    n = np.cross(w, v)
+    n = np.cross(intermediate_axes(g, phi), platform_axes(g, R))
     return -n, np.diag(np.sum(g.u * n, axis=1))
 
 

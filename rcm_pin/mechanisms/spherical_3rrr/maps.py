@@ -32,7 +32,13 @@ from typing import Any
 
 import numpy as np
 
-from rcm_pin.mechanisms.spherical_3rrr.closed_form import GeometrySpherical
+from rcm_pin.mechanisms.spherical_3rrr.closed_form import (
+    DELTA_TOL,
+    GeometrySpherical,
+    intermediate_axes,
+    leg_roots,
+    platform_axes,
+)
 from rcm_pin.rotations import rot_y, rot_z
 from rcm_pin.rotations import wrap_angle as wrap
 
@@ -74,19 +80,13 @@ def tt_angles(n: np.ndarray, R: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.
 def _legs(g: GeometrySpherical, R: np.ndarray, mode: int) -> tuple[np.ndarray, ...]:
     """Rows of A / sin θ_i2 (..., 3, 3), B_ii / (sin θ_i1 sin θ_i2) (..., 3) and the
     unreachable mask (...) of working mode ``mode`` at rotations R (..., 3, 3)."""
-    v = np.einsum("...ab,ib->...ia", R, g.v0)  # v_i = R v_i0, (..., 3, 3)
-    cl = np.einsum("iba,...ib->...ia", g.B, v)  # B_iᵀ v_i
-    a, b = np.sin(g.t1) * cl[..., 1], -np.sin(g.t1) * cl[..., 0]
-    cc = np.cos(g.t1) * cl[..., 2] - np.cos(g.t2)
-    delta = a * a + b * b - cc * cc
-    chi = np.arctan2(np.sqrt(np.maximum(delta, 0.0)), -cc)
-    signs = np.array([(mode >> 2) & 1, (mode >> 1) & 1, mode & 1]) * 2.0 - 1.0  # −1 for "+"
-    phi = np.arctan2(b, a) + signs * chi
-    local = np.stack([np.zeros(3), np.sin(g.t1), np.cos(g.t1)], axis=-1)
-    w = np.einsum("iab,...ibc,ic->...ia", g.B, rot_z(phi), local)
+    roots, delta, _ = leg_roots(g, R)
+    bits = np.array([(mode >> 2) & 1, (mode >> 1) & 1, mode & 1])  # 0 for "+", 1 for "-"
+    w = intermediate_axes(g, roots[..., np.arange(3), bits])
+    v = platform_axes(g, R)
     nrm = np.cross(w, v) / np.sin(g.t2)[:, None]
     b_diag = np.sum(g.u * nrm, axis=-1) / np.sin(g.t1)
-    return -nrm, b_diag, np.any(delta < -1e-12, axis=-1)
+    return -nrm, b_diag, np.any(delta < -DELTA_TOL, axis=-1)
 
 
 def measures(g: GeometrySpherical, R: np.ndarray, mode: int = 0) -> tuple[np.ndarray, np.ndarray]:
@@ -108,24 +108,18 @@ def determinants(g: GeometrySpherical, R: np.ndarray, mode: int = 0) -> tuple[np
 
 
 def _least_rotation(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """The rotation of least angle taking unit a to unit b (Rodrigues; a = −b: a half turn
-    about an axis ⊥ a)."""
-    k = np.cross(a, b)
-    c = float(a @ b)
-    if np.linalg.norm(k) < 1e-12:
-        if c > 0:
-            return np.eye(3)
-        p = axis_frame(a)[:, 0]
-        return 2.0 * np.outer(p, p) - np.eye(3)
-    kx = np.array([[0, -k[2], k[1]], [k[2], 0, -k[0]], [-k[1], k[0], 0]])
-    return np.eye(3) + kx + kx @ kx / (1.0 + c)
+    """The rotation of least angle taking unit a to unit b (a = −b: a half turn about an
+    axis ⊥ a, Eigen's choice)."""
+    import pinocchio as pin
+
+    return np.asarray(pin.Quaternion.FromTwoVectors(a, b).matrix())
 
 
 def _axis_angle(u: np.ndarray, t: np.ndarray) -> np.ndarray:
-    """Rot(u, t) (S, 3, 3) for unit u and angles t (S,) [rad]."""
-    ux = np.array([[0, -u[2], u[1]], [u[2], 0, -u[0]], [-u[1], u[0], 0]])
-    s, c = np.sin(t)[:, None, None], np.cos(t)[:, None, None]
-    return np.eye(3) + s * ux + (1 - c) * (ux @ ux)
+    """Rot(u, t) (S, 3, 3) for unit u and angles t (S,) [rad] (``pin.exp3``)."""
+    import pinocchio as pin
+
+    return np.array([pin.exp3(u * ti) for ti in t]).reshape(-1, 3, 3)
 
 
 def curve_rotations(g: GeometrySpherical, leg: int, sign: float, t: np.ndarray) -> np.ndarray:
