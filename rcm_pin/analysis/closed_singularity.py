@@ -46,7 +46,7 @@ def configuration_report(
     mech: Mechanism, q: np.ndarray, tol: float = SINGULAR_TOL, label: str = ""
 ) -> dict[str, Any]:
     """Every route's verdict at one closed configuration."""
-    loops = mech._require_loops()
+    loops = mech.require_loops()
     vm = velocity_matrices(mech, q)
     c = classify(mech, q, tol)
     s = screw_test(mech, q, tol)

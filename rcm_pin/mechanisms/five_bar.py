@@ -147,7 +147,7 @@ CROSSING = QuinticPath((0.01, 0.17), (-0.01, 0.02), 1.0)
 
 def geometry(mech: Mechanism) -> GeometryFiveBar:
     """The closed-form geometry of a loaded five-bar (from its sidecar parameters)."""
-    return GeometryFiveBar.from_params(mech._require_loops().params)
+    return GeometryFiveBar.from_params(mech.require_loops().params)
 
 
 def point_grid(g: GeometryFiveBar, n: int) -> tuple[np.ndarray, np.ndarray]:
@@ -182,7 +182,7 @@ class FiveBarFamily(Family):
 
     def direct_position(self, mech: Mechanism, drives: np.ndarray) -> list[np.ndarray] | None:
         """The two intersections of the circles (B_i, l2_i) (main drives only)."""
-        if mech._require_loops().drives != ("A1", "A2"):
+        if mech.require_loops().drives != ("A1", "A2"):
             return None  # the extra-drive set: numeric route
         g = geometry(mech)
         return [full_q(g, p, drives) for p in direct_position(g, drives)]
@@ -196,14 +196,14 @@ class FiveBarFamily(Family):
         from rcm_pin.analysis.position import inverse
 
         reach = float(
-            mech._require_loops().params["proximal_1"] + mech._require_loops().params["distal_1"]
+            mech.require_loops().params["proximal_1"] + mech.require_loops().params["distal_1"]
         )
         return {"home": inverse(mech, np.array([0.0, 0.6 * reach])).solutions[0].q}
 
     def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Main-drive A / (2 l2_i) and B / (2 l1_i l2_i) (dimensionless determinants)."""
         g = geometry(mech)
-        a_mat, b_mat = ab_matrices(g, mech.output_value(q), q[mech._require_loops().drive_q])
+        a_mat, b_mat = ab_matrices(g, mech.output_value(q), q[mech.require_loops().drive_q])
         return a_mat / (2.0 * g.l2[:, None]), b_mat / (2.0 * (g.l1 * g.l2)[:, None])
 
     def singularity_map(self, mech: Mechanism, **options: Any) -> dict[str, Any]:

@@ -147,7 +147,7 @@ def rocker_range(g: GeometryFourBar) -> tuple[float, float]:
 
 def geometry(mech: Mechanism) -> GeometryFourBar:
     """The closed-form geometry of a loaded four-bar (from its sidecar parameters)."""
-    return GeometryFourBar.from_params(mech._require_loops().params)
+    return GeometryFourBar.from_params(mech.require_loops().params)
 
 
 class FourBarFamily(Family):
@@ -194,7 +194,7 @@ class FourBarFamily(Family):
 
     def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """A / (2 l2 l3) and B / (2 l1 l2) (dimensionless)."""
-        g, loops = geometry(mech), mech._require_loops()
+        g, loops = geometry(mech), mech.require_loops()
         psi = float(mech.output_value(q)[0])
         a_mat, b_mat = ab_matrices(g, float(q[loops.drive_q[0]]), psi)
         return a_mat / (2.0 * g.l2 * g.l3), b_mat / (2.0 * g.l1 * g.l2)

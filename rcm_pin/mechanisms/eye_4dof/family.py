@@ -28,7 +28,7 @@ MODES = ("+f", "+b", "-f", "-b")
 
 def geometry(mech: Mechanism) -> EyeGeometry:
     """The closed-form geometry of a loaded eye linkage."""
-    return EyeGeometry.from_params(mech._require_loops().params)
+    return EyeGeometry.from_params(mech.require_loops().params)
 
 
 def to_q(mech: Mechanism, values: dict[str, float]) -> np.ndarray:

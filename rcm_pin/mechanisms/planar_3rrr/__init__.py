@@ -30,11 +30,11 @@ MODES = tuple(f"{w:03b}".replace("0", "+").replace("1", "-") for w in range(8))
 
 def geometry(mech: Mechanism) -> p3.Geometry3RRR:
     """The closed-form geometry of a loaded 3-RRR (from its sidecar parameters)."""
-    return p3.Geometry3RRR.from_params(mech._require_loops().params)
+    return p3.Geometry3RRR.from_params(mech.require_loops().params)
 
 
 def _pose_and_drives(mech: Mechanism, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    return mech.output_value(q), q[mech._require_loops().drive_q]
+    return mech.output_value(q), q[mech.require_loops().drive_q]
 
 
 def normalised_ab(

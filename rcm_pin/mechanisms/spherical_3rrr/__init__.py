@@ -61,7 +61,7 @@ MODES = tuple(f"{w:03b}".replace("0", "+").replace("1", "-") for w in range(8))
 
 def geometry(mech: Mechanism) -> sc.GeometrySpherical:
     """The closed-form geometry of a loaded spherical 3-RRR (from its sidecar parameters)."""
-    return sc.GeometrySpherical.from_params(mech._require_loops().params)
+    return sc.GeometrySpherical.from_params(mech.require_loops().params)
 
 
 def full_q(mech: Mechanism, R: np.ndarray, phi: np.ndarray) -> np.ndarray:
@@ -72,7 +72,7 @@ def full_q(mech: Mechanism, R: np.ndarray, phi: np.ndarray) -> np.ndarray:
 
 def pose_and_drives(mech: Mechanism, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(R (3, 3), φ (3,)) of a closed configuration."""
-    return mech.output_value(q).reshape(3, 3), np.asarray(q)[mech._require_loops().drive_q]
+    return mech.output_value(q).reshape(3, 3), np.asarray(q)[mech.require_loops().drive_q]
 
 
 def normalised_ab(

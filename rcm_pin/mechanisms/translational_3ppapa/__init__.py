@@ -41,7 +41,7 @@ REGULAR = (0.1, 0.12, 0.15)
 
 def geometry(mech: Mechanism) -> Geometry3PPaPa:
     """The closed-form geometry of a loaded 3-PPaPa (from its sidecar parameters)."""
-    return Geometry3PPaPa.from_params(mech._require_loops().params)
+    return Geometry3PPaPa.from_params(mech.require_loops().params)
 
 
 def drive_limits(mech: Mechanism) -> tuple[float, float]:
@@ -173,7 +173,7 @@ class Translational3PPaPaFamily(Family):
         """1 mm errors in l1, l2, l3, drives locked: the linear theory (Cramer's rule,
         denominator det A restored) beside the nonlinear re-solve (:mod:`.accuracy`)."""
         g, qc = geometry(mech), mech.check_q(q)
-        drives = qc[list(mech._require_loops().drive_q)]
+        drives = qc[list(mech.require_loops().drive_q)]
         angles = crank_angles(mech, qc)
         signs = np.where(np.cos(angles) >= 0.0, 1.0, -1.0)
         p = platform_point(g, drives, angles)
