@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from rcm_pin.analysis.capabilities import position_solver
 from rcm_pin.analysis.loop_velocity import SINGULAR_TOL, classify, velocity_matrices
 from rcm_pin.analysis.position import PositionSolution, forward, inverse
 from rcm_pin.analysis.screws import screw_test
@@ -21,7 +22,7 @@ from rcm_pin.model.mechanism import Mechanism
 
 def mode_labels(mech: Mechanism) -> tuple[str, ...]:
     """The family's working-mode labels (empty without a closed form)."""
-    return mech.family.mode_labels(mech) or ()
+    return position_solver(mech).mode_labels(mech)
 
 
 def parse_mode(mech: Mechanism, text: str | int | None) -> int | None:

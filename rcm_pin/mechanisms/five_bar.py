@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from rcm_pin.analysis.capabilities import Assemblies, Branches, NumericPosition
 from rcm_pin.control.references import QuinticPath
 from rcm_pin.errors import UnreachablePoseError
 from rcm_pin.model.family import Branch, Family
@@ -157,20 +158,13 @@ def point_grid(g: GeometryFiveBar, n: int) -> tuple[np.ndarray, np.ndarray]:
     return np.linspace(-r - d, r + d, n), np.linspace(-r, r, n)
 
 
-class FiveBarFamily(Family):
-    """Hooks of the five-bar: working and assembly modes, A/B of the main drives."""
+class FiveBarPosition(NumericPosition):
+    """Closed-form position problems of the family (the numeric route where none applies)."""
 
-    name = "five_bar"
-    description = "planar five-bar RR-RR with extra drives (paper 004 Fig. 13)"
-    closed = True
-    workspace_options = ("n",)
-
-    def inverse_position(
-        self, mech: Mechanism, target: np.ndarray, output: Output
-    ) -> list[Branch] | None:
+    def inverse(self, mech: Mechanism, target: np.ndarray, output: Output) -> Branches:
         """Four working modes (elbow signs) of the point P."""
         if output.coords != ("x", "y"):
-            return None
+            return super().inverse(mech, target, output)
         g = geometry(mech)
         qs, ok = inverse_position(g, target)
         if not ok:
@@ -178,18 +172,28 @@ class FiveBarFamily(Family):
                 f"{mech.name}: point {target.tolist()} is outside the workspace (a leg cannot "
                 "reach it: |l1 − l2| ≤ |A_i P| ≤ l1 + l2 fails)"
             )
-        return [Branch(full_q(g, target, qs[w]), MODES[w]) for w in range(4)]
+        return Branches.of(mech, [Branch(full_q(g, target, qs[w]), MODES[w]) for w in range(4)])
 
-    def direct_position(self, mech: Mechanism, drives: np.ndarray) -> list[np.ndarray] | None:
+    def direct(self, mech: Mechanism, drives: np.ndarray) -> Assemblies:
         """The two intersections of the circles (B_i, l2_i) (main drives only)."""
         if mech.require_loops().drives != ("A1", "A2"):
-            return None  # the extra-drive set: numeric route
+            return super().direct(mech, drives)  # the extra-drive set: numeric route
         g = geometry(mech)
-        return [full_q(g, p, drives) for p in direct_position(g, drives)]
+        return Assemblies.of([full_q(g, p, drives) for p in direct_position(g, drives)])
 
     def mode_labels(self, mech: Mechanism) -> tuple[str, ...]:
         """``++``, ``+-``, ``-+``, ``--``."""
         return MODES
+
+
+class FiveBarFamily(Family):
+    """Hooks of the five-bar: working and assembly modes, A/B of the main drives."""
+
+    name = "five_bar"
+    description = "planar five-bar RR-RR with extra drives (paper 004 Fig. 13)"
+    closed = True
+    workspace_options = ("n",)
+    capabilities = (FiveBarPosition(),)
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
         """``home``: P on the symmetry axis at 60 % of the reach, working mode ``++``."""

@@ -31,6 +31,7 @@ from typing import Any
 
 import numpy as np
 
+from rcm_pin.analysis.capabilities import Assemblies, Branches, NumericPosition
 from rcm_pin.errors import UnreachablePoseError
 from rcm_pin.model.family import Branch, Family
 from rcm_pin.model.mechanism import Mechanism
@@ -150,20 +151,13 @@ def geometry(mech: Mechanism) -> GeometryFourBar:
     return GeometryFourBar.from_params(mech.require_loops().params)
 
 
-class FourBarFamily(Family):
-    """Hooks of the four-bar: both assembly and working modes, A/B, the rocker's swing."""
+class FourBarPosition(NumericPosition):
+    """Closed-form position problems of the family (the numeric route where none applies)."""
 
-    name = "four_bar"
-    description = "planar four-bar linkages (paper 002)"
-    closed = True
-    workspace_options: tuple[str, ...] = ()
-
-    def inverse_position(
-        self, mech: Mechanism, target: np.ndarray, output: Output
-    ) -> list[Branch] | None:
+    def inverse(self, mech: Mechanism, target: np.ndarray, output: Output) -> Branches:
         """Crank angles of both working modes for a rocker angle."""
         if output.coords != ("rz",):
-            return None
+            return super().inverse(mech, target, output)
         g, psi = geometry(mech), float(target[0])
         cranks = inverse_position(g, psi)
         if not cranks:
@@ -175,16 +169,30 @@ class FourBarFamily(Family):
                 f"{mech.name}: rocker angle {psi:.6g} rad is outside the rocker's range "
                 f"(the crank circle and the coupler circle about B do not meet); valid: {valid}"
             )
-        return [Branch(full_q(g, c, psi), MODES[i]) for i, c in enumerate(cranks)]
+        return Branches.of(
+            mech, [Branch(full_q(g, c, psi), MODES[i]) for i, c in enumerate(cranks)]
+        )
 
-    def direct_position(self, mech: Mechanism, drives: np.ndarray) -> list[np.ndarray] | None:
+    def direct(self, mech: Mechanism, drives: np.ndarray) -> Assemblies:
         """Both assembly modes (B above the line A → O2 first)."""
         g = geometry(mech)
-        return [full_q(g, float(drives[0]), psi) for psi in direct_position(g, float(drives[0]))]
+        return Assemblies.of(
+            [full_q(g, float(drives[0]), psi) for psi in direct_position(g, float(drives[0]))]
+        )
 
     def mode_labels(self, mech: Mechanism) -> tuple[str, ...]:
         """``+``, ``-``."""
         return MODES
+
+
+class FourBarFamily(Family):
+    """Hooks of the four-bar: both assembly and working modes, A/B, the rocker's swing."""
+
+    name = "four_bar"
+    description = "planar four-bar linkages (paper 002)"
+    closed = True
+    workspace_options: tuple[str, ...] = ()
+    capabilities = (FourBarPosition(),)
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
         """``home``: crank along the frame line (q1 = 0), rocker above it."""
