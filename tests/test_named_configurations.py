@@ -57,7 +57,6 @@ def test_home_is_a_copy():
     assert not np.any(mech.home == 99.0)
 
 
-@pytest.mark.xfail(reason="singularity/accuracy capabilities pending", strict=True)
 @pytest.mark.parametrize("key", ["mid", "regular"])
 def test_no_magic_configuration_keys_in_generic_code(key):
     generic = ["rcm_pin/analysis", "rcm_pin/control", "rcm_pin/viz", "rcm_pin/cli", "ocp"]

@@ -16,6 +16,7 @@ import numpy as np
 
 from rcm_pin.analysis import closed_position as cp
 from rcm_pin.analysis.serial_ik import numeric_branches
+from rcm_pin.model.configurations import mid_range
 from rcm_pin.model.family import Branch
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import Output
@@ -92,6 +93,37 @@ class NumericPosition(PositionSolver):
 NUMERIC_POSITION = NumericPosition()
 
 
+class ReferencePoses(ABC):
+    """The configurations analyses start from (no magic keys of ``mech.configurations``)."""
+
+    @abstractmethod
+    def regular(self, mech: Mechanism) -> np.ndarray:
+        """A regular configuration (off every singularity): singularity maps' base."""
+
+    @abstractmethod
+    def accuracy(self, mech: Mechanism) -> np.ndarray:
+        """Where ``rcm-pin accuracy`` evaluates without ``--q``."""
+
+
+class DefaultPoses(ReferencePoses):
+    """The default: mid-range of the limits (serial) or ``mech.home`` (closed); accuracy at
+    ``mech.home``."""
+
+    def regular(self, mech: Mechanism) -> np.ndarray:
+        return mid_range(mech) if mech.loops is None else mech.home
+
+    def accuracy(self, mech: Mechanism) -> np.ndarray:
+        return mech.home
+
+
+DEFAULT_POSES = DefaultPoses()
+
+
+def reference_poses(mech: Mechanism) -> ReferencePoses:
+    """The family's :class:`ReferencePoses`, else :class:`DefaultPoses`."""
+    return mech.family.capability(ReferencePoses) or DEFAULT_POSES  # type: ignore[type-abstract]
+
+
 def position_solver(mech: Mechanism) -> PositionSolver:
     """The family's :class:`PositionSolver`, else :class:`NumericPosition`."""
     return mech.family.capability(PositionSolver) or NUMERIC_POSITION  # type: ignore[type-abstract]
@@ -100,7 +132,10 @@ def position_solver(mech: Mechanism) -> PositionSolver:
 __all__ = [
     "Assemblies",
     "Branches",
+    "DefaultPoses",
     "NumericPosition",
     "PositionSolver",
+    "ReferencePoses",
     "position_solver",
+    "reference_poses",
 ]

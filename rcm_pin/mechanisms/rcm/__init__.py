@@ -21,7 +21,7 @@ from typing import Any
 
 import numpy as np
 
-from rcm_pin.analysis.capabilities import Branches, NumericPosition
+from rcm_pin.analysis.capabilities import Branches, NumericPosition, ReferencePoses
 from rcm_pin.model.family import Branch, Cause, Family, StopEvent, TaskKinematics
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import Output
@@ -54,12 +54,22 @@ class RcmPosition(NumericPosition):
         return super().inverse(mech, target, output)
 
 
+class RcmPoses(ReferencePoses):
+    """Singularity maps around ``mid`` (off the zyz wrist), accuracy at ``regular``."""
+
+    def regular(self, mech: Mechanism) -> np.ndarray:
+        return mech.configurations["mid"]
+
+    def accuracy(self, mech: Mechanism) -> np.ndarray:
+        return mech.configurations["regular"]
+
+
 class RcmFamily(Family):
     """Hooks of the RCM mechanisms (module docstring)."""
 
     name = "rcm"
     description = "RCM mechanisms with bevel-gear or belt transmissions (papers 000/003)"
-    capabilities = (RcmPosition(),)
+    capabilities = (RcmPosition(), RcmPoses())
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
         """``home`` (zeros clipped to the limits), ``mid`` (the middle of the joint box,

@@ -13,7 +13,7 @@ from typing import Any
 
 import numpy as np
 
-from rcm_pin.analysis.capabilities import Assemblies, Branches, NumericPosition
+from rcm_pin.analysis.capabilities import Assemblies, Branches, DefaultPoses, NumericPosition
 from rcm_pin.errors import InvalidInputError, UnreachablePoseError
 from rcm_pin.mechanisms.translational_3ppapa import accuracy
 from rcm_pin.mechanisms.translational_3ppapa.closed_form import (
@@ -123,13 +123,20 @@ class Translational3PPaPaPosition(NumericPosition):
         return MODES
 
 
+class Translational3PPaPaPoses(DefaultPoses):
+    """Accuracy at the paper's ``regular`` pose."""
+
+    def accuracy(self, mech: Mechanism) -> np.ndarray:
+        return mech.configurations["regular"]
+
+
 class Translational3PPaPaFamily(Family):
     """Hooks of the 3-PPaPa: 64 working modes, assembly modes, A (paper) and B = I."""
 
     name = "translational_3ppapa"
     description = "translational 3-PPaPa parallel mechanism (paper 004 Fig. 4)"
     closed = True
-    capabilities = (Translational3PPaPaPosition(),)
+    capabilities = (Translational3PPaPaPosition(), Translational3PPaPaPoses())
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
         """``home``: P = 0, every crank along its drive axis; ``regular``: P at the paper's
