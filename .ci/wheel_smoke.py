@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 
 import rcm_pin
+from rcm_pin.analysis.capabilities import reference_poses
 
 exe = Path(sys.executable).with_name("rcm-pin")
 site = Path(rcm_pin.__file__).resolve()
@@ -40,9 +41,8 @@ names = [m["name"] for m in cli("list")["mechanisms"]]
 assert names == list(rcm_pin.names()), names
 for name in names:
     mech = rcm_pin.load(name)
-    named = mech.family.configurations(mech)  # "mid": regular (the RCM home is on the wrist
-    home = named.get("mid", named.get("home"))  # singularity sin q5 = 0)
-    home = 0.5 * (mech.lower + mech.upper) if home is None else home
+    # a regular configuration (the RCM home is on the wrist singularity sin q5 = 0)
+    home = reference_poses(mech).regular(mech)
     inputs = home if mech.loops is None else home[mech.loops.drive_q]
     fk = cli("fk", name, "--q=" + ",".join(repr(float(v)) for v in inputs))
     sol = fk["solutions"][0]

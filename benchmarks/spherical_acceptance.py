@@ -68,7 +68,7 @@ def inverse_forward(mech: rcm_pin.Mechanism, rots: np.ndarray) -> dict[str, Any]
             n_sol += 1
             res = max(res, float(np.linalg.norm(mech.closure_residual(sol.q))))
             off = max(off, _origin_offset(mech, sol.q))
-            fwd = rcm_pin.forward(mech, sol.q[mech._require_loops().drive_q], all_modes=True)
+            fwd = rcm_pin.forward(mech, sol.q[mech.require_loops().drive_q], all_modes=True)
             e = min(float(np.linalg.norm(pin.log3(f.output.reshape(3, 3) @ R.T)))
                     for f in fwd.solutions)  # fmt: skip
             err = max(err, e)
@@ -80,7 +80,7 @@ def inverse_forward(mech: rcm_pin.Mechanism, rots: np.ndarray) -> dict[str, Any]
 def forward_inverse(mech: rcm_pin.Mechanism, drives: np.ndarray) -> dict[str, Any]:
     counts: dict[int, int] = {}
     err, res = 0.0, 0.0
-    dq = mech._require_loops().drive_q
+    dq = mech.require_loops().drive_q
     for phi in drives:
         try:
             fwd = rcm_pin.forward(mech, phi, all_modes=True)
@@ -112,7 +112,7 @@ def _tally(mech: rcm_pin.Mechanism, qs: list[np.ndarray]) -> dict[str, int]:
         out["type2"] += int(fam[1])
         out["disagree"] += int(not fam == pv == sv)
         out["closed_form_vs_screw"] += int(fam != sv)
-        n_passive = len(mech._require_loops().passive_v)
+        n_passive = len(mech.require_loops().passive_v)
         out["passive_rank_deficient"] += int(_passive_rank(mech, q) < n_passive)
     return out
 
@@ -120,7 +120,7 @@ def _tally(mech: rcm_pin.Mechanism, qs: list[np.ndarray]) -> dict[str, int]:
 def _passive_rank(mech: rcm_pin.Mechanism, q: np.ndarray) -> int:
     """Rank of the passive columns [J_c,p; J_x,p] that Pinocchio's A/B route assumes full."""
     full = np.vstack([closure_jacobian(mech, q), mech.output_jacobian(q)])
-    return int(np.linalg.matrix_rank(full[:, mech._require_loops().passive_v], tol=1e-9))
+    return int(np.linalg.matrix_rank(full[:, mech.require_loops().passive_v], tol=1e-9))
 
 
 def _type2_points(mg: rcm_pin.Mechanism, rng: np.random.Generator, n: int) -> list[np.ndarray]:

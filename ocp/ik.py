@@ -92,9 +92,8 @@ class IKProblem:
         self.restarts, self._rng = int(restarts), np.random.default_rng(seed)
         self.lower, self.upper = box(self.sm, lower, upper)
         self._home = None
-        if mech is not None and closed:  # a closed configuration: the default start
-            home = mech.family.configurations(mech).get("home")
-            self._home = None if home is None else mech.to_pin(home)
+        if mech is not None and closed and _assembled(mech):  # closed: the default start
+            self._home = mech.to_pin(mech.home)
         q = ca.SX.sym("q", self.sm.nq)
         p, rot = self.sm.frame_placement(self.fid)(q)
         wp, wo = position_weight, orientation_weight
@@ -118,8 +117,8 @@ class IKProblem:
         exprs = [constraint_expr(c, *self._placement(c.frame, q, p, rot)) for c in self.constraints]
         closure = every_row = ca.SX(0, 1)
         if self.loops is not None and mech is not None:  # constraints: an independent set
-            home = mech.family.configurations(mech).get("home")
-            rows = None if home is None else independent_rows(mech.residual_and_jacobian(home)[1])
+            jac = mech.residual_and_jacobian(mech.home)[1] if _assembled(mech) else None
+            rows = None if jac is None else independent_rows(jac)
             closure = closure_expr(self.sm, self.loops, q, rows)
             every_row = closure_expr(self.sm, self.loops, q)  # the residual reports them all
         m = closure.shape[0]
@@ -287,6 +286,11 @@ def solve_ik(model: ModelSource, frame: str | int | None, target: Any, q0: Any =
     """One-shot :class:`IKProblem` ``(model, frame, **options).solve(target, q0)``."""
     solver = options.pop("solver", "auto")
     return IKProblem(model, frame, **options).solve(target, q0, solver=solver)
+
+
+def _assembled(mech: Any) -> bool:
+    """Whether ``mech.home`` closes the loops (the default home may stay open)."""
+    return float(np.linalg.norm(mech.closure_residual(mech.home))) < 1e-9
 
 
 __all__ = ["IKProblem", "IKResult", "Mode", "solve_ik"]

@@ -16,6 +16,7 @@ import pytest
 from conftest import EXACT
 
 import rcm_pin
+from rcm_pin.analysis.capabilities import position_solver
 from rcm_pin.analysis.closed_position import direct_position_path, solve_drives
 from rcm_pin.analysis.mobility import mobility
 from rcm_pin.errors import UnreachablePoseError
@@ -67,7 +68,7 @@ def test_numeric_closures_reproduce_every_sub_linkage(eye):
     g, rng = geometry(eye), np.random.default_rng(1)
     for _ in range(40):
         drives = rng.uniform([-np.pi, -np.pi, -1.0, -np.pi], [np.pi, np.pi, 1.0, np.pi])
-        q_cf = eye.family.direct_position(eye, drives)[0]
+        q_cf = position_solver(eye).direct(eye, drives).seeds[0]
         assert np.abs(eye.closure_residual(q_cf)).max() <= EXACT
         q, _, res = solve_drives(eye, drives, q_cf + rng.normal(0.0, 0.05, eye.nq) * 0.1)
         assert res <= EXACT and np.abs(eye.closure_residual(q)).max() <= EXACT
@@ -97,7 +98,7 @@ def test_slot_coordinate_is_the_papers_dimension_chain(eye):
     e_index = eye.model.joints[eye.model.getJointId("E")].idx_q
     for _ in range(30):
         drives = np.r_[rng.uniform(-np.pi, np.pi, 2), 0.0, 0.0]
-        q = eye.family.direct_position(eye, drives)[0]
+        q = position_solver(eye).direct(eye, drives).seeds[0]
         e, _ = closed_forms(g, drives)
         s = dz.slot_coordinate(d, np.array(g.up - e), np.array(drives[1]))
         assert abs(q[e_index] - float(s)) < EXACT
@@ -112,7 +113,7 @@ def test_mobility_from_the_rank_and_the_redundant_constraints(eye):
     count = mobility(eye)
     assert count.rank_mobility == 4 and count.W == 0 and count.redundant == 4
     for _ in range(5):
-        q = eye.family.direct_position(eye, rng.uniform(-3, 3, 4))[0]
+        q = position_solver(eye).direct(eye, rng.uniform(-3, 3, 4)).seeds[0]
         jac = eye.residual_and_jacobian(q)[1]
         assert jac.shape == (9, 12) and constraint_rank(jac) == 8
 

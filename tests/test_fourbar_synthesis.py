@@ -19,6 +19,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 import rcm_pin
+from rcm_pin.analysis.capabilities import position_solver
 from rcm_pin.cli import main
 from rcm_pin.errors import InvalidInputError, UnreachablePoseError
 from rcm_pin.linkage.fourbar import (
@@ -110,7 +111,7 @@ def test_closed_forms_equal_pinocchio_over_the_turn():
     """ψ(θ) and μ(θ) on the upper circuit, and the transmission range at θ = 0, π."""
     g = FourBar(0.05419, 0.01788, 0.075, 0.05)
     m, t = turn(g)
-    qs = [m.family.direct_position(m, np.array([th]))[0] for th in t.theta]
+    qs = [position_solver(m).direct(m, np.array([th])).seeds[0] for th in t.theta]
     mu = []
     for q in qs:
         a, b, o2 = pinocchio_points(m, q)

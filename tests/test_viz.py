@@ -84,7 +84,8 @@ def test_default_configuration_is_home(rcm_mech):
     assert np.array_equal(viewer.inputs, viewer.q) and viewer.closure_gap() == 0.0
     plain = Viewer(rcm_pin.load(DATA / "mimic_tree.urdf", tool_frame="tool_link"))
     mech = plain.mech
-    assert np.array_equal(plain.q, np.clip(np.zeros(mech.nq), mech.lower, mech.upper))
+    assert np.array_equal(plain.q, mech.home)  # the one default: mid-range of the limits
+    assert np.array_equal(mech.home, 0.5 * (mech.lower + mech.upper))
 
 
 def test_tool_axis_passes_through_rcm_and_tool(rcm_mech):

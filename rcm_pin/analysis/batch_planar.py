@@ -61,7 +61,7 @@ class PlanarTree:
         """
         model = mech.model
         normal = plane_normal(model)
-        loops = mech._require_loops()
+        loops = mech.require_loops()
         if (
             normal is None
             or abs(abs(normal[2]) - 1.0) > 1e-12
@@ -173,7 +173,7 @@ def batch_solve_passive(
         (q (N, n), residual norm (N,) [m]); unconverged poses keep their last iterate.
     """
     q = np.array(q_guess, dtype=float)
-    loops = mech._require_loops()
+    loops = mech.require_loops()
     q[:, loops.drive_q] = q_drives
     ip = loops.passive_q
     eye = np.eye(len(ip))

@@ -47,7 +47,7 @@ def solve_drives(
     Raises:
         SolverError: no convergence (the numpy route's message).
     """
-    loops = mech._require_loops()
+    loops = mech.require_loops()
     kernel = kernels.closure_newton(mech)
     if kernel is not None:
         out = kernel(
@@ -66,7 +66,7 @@ def polish(
 ) -> tuple[np.ndarray, int, float]:
     """Newton over every joint on [closure; output − target] = 0 from a seed."""
     q, it, res, _ = solve_output(
-        mech.model, mech.data, mech._require_loops(), output, target, np.asarray(q0, dtype=float)
+        mech.model, mech.data, mech.require_loops(), output, target, np.asarray(q0, dtype=float)
     )
     return q, it, res
 
@@ -107,7 +107,7 @@ def multistart_seeds(
     """Random full configurations with the given drive values (seeded)."""
     rng = np.random.default_rng(seed)
     qs = _random_q(mech, rng, n_starts)
-    qs[:, mech._require_loops().drive_q] = drives
+    qs[:, mech.require_loops().drive_q] = drives
     return list(qs)
 
 
@@ -128,7 +128,7 @@ def direct_position_multistart(
     mech: Mechanism, drives: Any, n_starts: int = 96, seed: int = 0
 ) -> PositionResult:
     """Purely numeric direct problem: Newton from random passive joints, deduplicated."""
-    drives = mech.check_q(drives, "drives", mech._require_loops().dof)
+    drives = mech.check_q(drives, "drives", mech.require_loops().dof)
     sols = []
     for q0 in multistart_seeds(mech, drives, n_starts, seed):
         try:
@@ -162,7 +162,7 @@ def direct_position_path(
     Raises:
         SolverError: the step was halved below 1e-9 of the path step.
     """
-    loops = mech._require_loops()
+    loops = mech.require_loops()
     path = np.asarray(drives_path, dtype=float)
     if path.ndim != 2 or path.shape[1] != loops.dof or not np.all(np.isfinite(path)):
         from rcm_pin.errors import InvalidInputError

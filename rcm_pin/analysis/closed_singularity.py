@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from rcm_pin.analysis.capabilities import position_solver
 from rcm_pin.analysis.loop_velocity import SINGULAR_TOL, classify, velocity_matrices
 from rcm_pin.analysis.position import PositionSolution, forward, inverse
 from rcm_pin.analysis.screws import screw_test
@@ -21,7 +22,7 @@ from rcm_pin.model.mechanism import Mechanism
 
 def mode_labels(mech: Mechanism) -> tuple[str, ...]:
     """The family's working-mode labels (empty without a closed form)."""
-    return mech.family.mode_labels(mech) or ()
+    return position_solver(mech).mode_labels(mech)
 
 
 def parse_mode(mech: Mechanism, text: str | int | None) -> int | None:
@@ -46,7 +47,7 @@ def configuration_report(
     mech: Mechanism, q: np.ndarray, tol: float = SINGULAR_TOL, label: str = ""
 ) -> dict[str, Any]:
     """Every route's verdict at one closed configuration."""
-    loops = mech._require_loops()
+    loops = mech.require_loops()
     vm = velocity_matrices(mech, q)
     c = classify(mech, q, tol)
     s = screw_test(mech, q, tol)

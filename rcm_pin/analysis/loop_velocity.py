@@ -69,7 +69,7 @@ class VelocityMatrices:
 
 def _scale(mech: Mechanism) -> np.ndarray:
     """L for the angular output rows, 1 for the translations."""
-    loops = mech._require_loops()
+    loops = mech.require_loops()
     return np.where(loops.output.angular, loops.length_scale, 1.0)
 
 
@@ -80,7 +80,7 @@ def closure_jacobian(mech: Mechanism, q: np.ndarray) -> np.ndarray:
     if mech.coupling.has_mimic:
         jc = mech.residual_and_jacobian(q)[1]
     else:
-        jc = pin_constraint_jacobian(mech.model, mech._require_loops(), q)
+        jc = pin_constraint_jacobian(mech.model, mech.require_loops(), q)
     r = constraint_rank(jc)
     if r < jc.shape[0]:
         u, _, _ = np.linalg.svd(jc)
@@ -96,7 +96,7 @@ def velocity_matrices(mech: Mechanism, q: np.ndarray) -> VelocityMatrices:
             its number of drives.
     """
     q = mech.check_q(q)
-    loops = mech._require_loops()
+    loops = mech.require_loops()
     jc = closure_jacobian(mech, q)
     s = _scale(mech)
     jx = mech.output_jacobian(q) * s[:, None]
@@ -144,7 +144,7 @@ def passive_velocity(mech: Mechanism, q: np.ndarray, qd_drives: np.ndarray) -> n
     Raises:
         SingularConfigurationError: J_c,p singular (type 2).
     """
-    loops = mech._require_loops()
+    loops = mech.require_loops()
     _, jc = mech.residual_and_jacobian(q)
     jp = jc[:, loops.passive_v]
     if np.linalg.cond(jp) > 1.0 / SINGULAR_TOL:

@@ -21,7 +21,7 @@ from rcm_pin.model.mechanism import Mechanism
 
 
 def _numeric_map(mech: Mechanism, mode: int, phi: float, n: int) -> dict[str, Any]:
-    loops = mech._require_loops()
+    loops = mech.require_loops()
     out = loops.output
     if out.size < 2 or out.coords[0] not in ("x", "y", "z") or out.coords[1] not in ("x", "y", "z"):
         raise InvalidInputError(

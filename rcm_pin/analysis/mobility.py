@@ -126,8 +126,8 @@ def mobility(mech: Mechanism, q: np.ndarray | None = None) -> MobilityCount:
         k = 3 if c.kind == "3d" else 6
         pairs[k] = pairs.get(k, 0) + 1
     if q is None:
-        q = mech.family.configurations(mech).get("home")
-    rank = None if q is None else mech.nv - constraint_rank(mech.residual_and_jacobian(q)[1])
+        q = mech.home
+    rank = mech.nv - constraint_rank(mech.residual_and_jacobian(q)[1])
     cheb = None
     if plane_normal(mech.model) is not None and not mech.coupling.has_mimic:
         cheb = 3 * n - 2 * (p5 + len(mech.loops.closures))

@@ -20,8 +20,8 @@ import numpy as np
 import pinocchio as pin
 
 from rcm_pin.analysis import closed_position as cp
+from rcm_pin.analysis.capabilities import position_solver
 from rcm_pin.analysis.results import PositionResult, PositionSolution, frame_placement
-from rcm_pin.analysis.serial_ik import numeric_branches
 from rcm_pin.errors import InvalidInputError, SolverError, UnreachablePoseError
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import Output
@@ -69,10 +69,8 @@ def forward(
         sols = [_closed_solution(mech, qs, "guess", res, it)]
         method = "Newton on Pinocchio closures from the guess"
     else:
-        seeds = mech.family.direct_position(mech, drives)
-        method = "closed-form seeds + Newton on Pinocchio closures"
-        if seeds is None:
-            seeds, method = cp.multistart_seeds(mech, drives), "multistart Newton"
+        found = position_solver(mech).direct(mech, drives)
+        seeds, method = found.seeds, found.method
         sols = []
         for q0 in seeds:
             try:
@@ -122,11 +120,9 @@ def inverse(
     """
     output = mech.output if coords is None else mech.output.subset(_coords(mech, coords))
     value = output.coerce(_as_value(output, target))
-    branches = mech.family.inverse_position(mech, value, output)
+    found = position_solver(mech).inverse(mech, value, output)
+    branches, method = found.branches, found.method
     if mech.loops is None:
-        method = "closed form, checked by Pinocchio forward kinematics"
-        if branches is None:
-            branches, method = numeric_branches(mech, value, output), "multistart least squares"
         sols = []
         for b in branches:
             q = mech.check_q(b.q, "branch")
@@ -139,10 +135,6 @@ def inverse(
                 )
             sols.append(PositionSolution(q, value_q, b.label, res, 0, within_limits(mech, q)))
     else:
-        method = "closed-form seeds + Newton polish on Pinocchio closures"
-        numeric = branches is None
-        if branches is None:
-            branches, method = cp.inverse_seeds(mech, value, output), "multistart Newton"
         sols = []
         for b in branches:
             q, it, res = cp.polish(mech, value, output, b.q)
@@ -150,7 +142,9 @@ def inverse(
                 raise SolverError(f"{mech.name}: inverse polish residual {res:.2e} m for {b.label}")
             value_q = output.value(_placement(mech, q))
             sols.append(PositionSolution(q, value_q, b.label, res, it, within_limits(mech, q)))
-        if numeric:  # closed-form working modes stay distinct by label, even where they meet
+        if (
+            not found.closed_form
+        ):  # closed-form working modes stay distinct by label, even where they meet
             sols = cp.dedupe(mech, sols)
     if not sols:
         raise UnreachablePoseError(

@@ -60,7 +60,7 @@ class ScrewTest:
 def leg_twists(mech: Mechanism, q: np.ndarray) -> list[tuple[np.ndarray, np.ndarray]]:
     """Per leg: (twists (6, n_i) as (v₀, ω) about the world origin, mask of passive ones)."""
     model, data = mech.model, mech.data
-    loops = mech._require_loops()
+    loops = mech.require_loops()
     pin.computeJointJacobians(model, data, q)
     pin.updateFramePlacements(model, data)
     driven = set(loops.drives)
@@ -93,7 +93,7 @@ def output_twists(mech: Mechanism) -> np.ndarray:
     """Unit output twists T (6, k) about O: a translation per length coordinate, a
     rotation per angle (``rotation``: about x, y and z)."""
     out = []
-    for row in mech._require_loops().output.rows:
+    for row in mech.require_loops().output.rows:
         t = np.zeros(6)
         t[row] = 1.0
         out.append(t)
@@ -103,7 +103,7 @@ def output_twists(mech: Mechanism) -> np.ndarray:
 def screw_test(mech: Mechanism, q: np.ndarray, tol: float = SINGULAR_TOL) -> ScrewTest:
     """Both screw criteria of paper 004 at a closed configuration q (module docstring)."""
     q = mech.check_q(q)
-    loops = mech._require_loops()
+    loops = mech.require_loops()
     length = loops.length_scale
     legs = leg_twists(mech, q)
     origin = mech.data.oMf[loops.output.frame_id].translation.copy()

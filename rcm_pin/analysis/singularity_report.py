@@ -18,6 +18,7 @@ import numpy as np
 
 from rcm_pin.analysis import closed_singularity as cs
 from rcm_pin.analysis import maps, singularity
+from rcm_pin.analysis.capabilities import reference_poses
 from rcm_pin.analysis.position import PositionResult, forward, inverse
 from rcm_pin.errors import InvalidInputError
 from rcm_pin.model.mechanism import Mechanism
@@ -72,13 +73,8 @@ def at_target(
 
 
 def base_configuration(mech: Mechanism) -> np.ndarray:
-    """A regular configuration to map around: the family's ``mid``, else mid-range."""
-    named = mech.family.configurations(mech)
-    if "mid" in named:
-        return named["mid"]
-    lo = np.where(np.isfinite(mech.lower), mech.lower, -np.pi)
-    hi = np.where(np.isfinite(mech.upper), mech.upper, np.pi)
-    return 0.5 * (lo + hi)
+    """A regular configuration to map around (:class:`.capabilities.ReferencePoses`)."""
+    return reference_poses(mech).regular(mech)
 
 
 def grid_map(

@@ -250,14 +250,11 @@ def cmd_workspace(args: argparse.Namespace) -> int:
 
 def cmd_accuracy(args: argparse.Namespace) -> int:
     """``rcm-pin accuracy``: the family's table, or every joint placement's sensitivity."""
-    from rcm_pin.analysis import accuracy, singularity_report
+    from rcm_pin.analysis import accuracy
+    from rcm_pin.analysis.capabilities import reference_poses
 
     mech = load_mechanism(args)
-    named = mech.family.configurations(mech)
-    if args.q:
-        q = parse_vector(args.q, "q", mech.nq)
-    else:
-        q = named.get("regular", named.get("home", singularity_report.base_configuration(mech)))
+    q = parse_vector(args.q, "q", mech.nq) if args.q else reference_poses(mech).accuracy(mech)
     rep = mech.family.accuracy_report(mech, q) or accuracy.sensitivities(mech, q)
     lines = []
     for r in rep["rows"]:

@@ -164,8 +164,7 @@ class ComputedTorque:
             )
         object.__setattr__(self, "_task", task)
         object.__setattr__(self, "_kin", kin)
-        home = mech.family.configurations(mech).get("home") if mech.loops is None else None
-        object.__setattr__(self, "_posture", np.zeros(mech.nq) if home is None else home)
+        object.__setattr__(self, "_posture", mech.home)  # serial: the others held there
 
     @property
     def task_output(self) -> Output:

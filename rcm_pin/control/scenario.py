@@ -48,11 +48,7 @@ def home_circle(mech: Mechanism) -> Scenario:
     """A circle of radius L/10 in the first two task coordinates about the home pose, 1 Hz."""
     from rcm_pin.analysis.position import forward
 
-    home = mech.family.configurations(mech).get("home")
-    if home is None:
-        lo = np.where(np.isfinite(mech.lower), mech.lower, -np.pi)
-        hi = np.where(np.isfinite(mech.upper), mech.upper, np.pi)
-        home = 0.5 * (lo + hi)
+    home = mech.home
     task = task_output(mech, None)
     inputs = home if mech.loops is None else home[mech.loops.drive_q]
     sol = forward(mech, inputs, q_guess=None if mech.loops is None else home).solutions[0]

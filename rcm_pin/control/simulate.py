@@ -72,9 +72,7 @@ def initial_state(mech: Mechanism, controller: ComputedTorque) -> np.ndarray:
         return q
     from rcm_pin.analysis.serial_ik import TOL, solve_one
 
-    home = mech.family.configurations(mech).get("home")
-    home = 0.5 * (mech.lower + mech.upper) if home is None else home
-    q, err = solve_one(mech, start, controller.task_output, home)
+    q, err = solve_one(mech, start, controller.task_output, mech.home)
     if err > TOL:
         raise InvalidInputError(
             f"{mech.name}: the reference start {start.tolist()} is not reached from the home "

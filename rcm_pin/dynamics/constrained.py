@@ -64,7 +64,7 @@ def world_closure(mech: Mechanism, q: np.ndarray, v: np.ndarray) -> tuple[np.nda
     pin.computeJointJacobians(model, data, q)
     pin.updateFramePlacements(model, data)
     cs, js, gs = [], [], []
-    for c in mech._require_loops().closures:
+    for c in mech.require_loops().closures:
         fa, fb, rows = c.frame_a_id, c.frame_b_id, list(c.world_rows)
         oMa, oMb = data.oMf[fa], data.oMf[fb]
         ja = pin.getFrameJacobian(model, data, fa, LWA)
@@ -145,7 +145,7 @@ def pin_constraint_dynamics(
     data = model.createData()
     cms = pin.StdVec_RigidConstraintModel()
     cdatas = pin.StdVec_RigidConstraintData()
-    for cm in constraint_models(model, mech._require_loops()):
+    for cm in constraint_models(model, mech.require_loops()):
         cms.append(cm)
         cdatas.append(cm.createData())
     pin.initConstraintDynamics(model, data, cms, cdatas)
@@ -155,7 +155,7 @@ def pin_constraint_dynamics(
 
 def drive_columns(mech: Mechanism, actuated: Sequence[str] | None) -> np.ndarray:
     """v indices of a drive set (default: the mechanism's drives)."""
-    loops = mech._require_loops()
+    loops = mech.require_loops()
     return loops.drive_v if actuated is None else mech.joint_v(actuated)
 
 

@@ -102,7 +102,7 @@ def stiffness_vector(
     Raises:
         InvalidInputError: wrong count, not finite or not > 0.
     """
-    k = mech._require_loops().dof
+    k = mech.require_loops().dof
     c = np.atleast_1d(np.asarray(stiffness, dtype=float)).ravel()
     if c.size == 1:
         c = np.full(k, float(c[0]))
@@ -122,7 +122,7 @@ def tangent_basis(mech: Mechanism, q: np.ndarray) -> np.ndarray:
         SingularConfigurationError: J_c,p singular (type-2 singularity of the drive set).
     """
     q = mech.check_q(q)
-    loops = mech._require_loops()
+    loops = mech.require_loops()
     jc = mech.constraint_jacobian(mech.q_pin(q))
     r = constraint_rank(jc)
     if r < jc.shape[0]:  # over-constrained closures: an independent set of rows
@@ -174,7 +174,7 @@ def natural_frequencies(
     jx = mech.output_jacobian(mech.q_pin(q))
     return Vibrations(
         q=q,
-        drives=tuple(mech._require_loops().drives),
+        drives=tuple(mech.require_loops().drives),
         stiffness=c,
         mass=m_q,
         frequencies=np.sqrt(w2),
@@ -186,7 +186,7 @@ def natural_frequencies(
 
 def spring_efforts(mech: Mechanism, q0: np.ndarray, c: np.ndarray, q: np.ndarray) -> np.ndarray:
     """Joint efforts (nv,) of the drive springs −c (q_a − q⁰_a) [N·m, N]."""
-    loops = mech._require_loops()
+    loops = mech.require_loops()
     tau = np.zeros(mech.model.nv)
     tau[loops.drive_v] = -c * (q[loops.drive_q] - q0[loops.drive_q])
     return tau
@@ -231,7 +231,7 @@ def linearised_frequencies(
     """
     q = mech.check_q(q)
     c = stiffness_vector(mech, stiffness)
-    k, n = mech._require_loops().dof, mech.model.nv
+    k, n = mech.require_loops().dof, mech.model.nv
     _, jc, _ = world_closure(mech, q, np.zeros(n))
     if constraint_rank(jc) < jc.shape[0]:
         raise InvalidInputError(

@@ -26,6 +26,7 @@ from typing import Any
 
 import numpy as np
 
+from rcm_pin.analysis.capabilities import Assemblies, Branches, NumericPosition
 from rcm_pin.control.references import QuinticPath
 from rcm_pin.errors import UnreachablePoseError
 from rcm_pin.geometry import circle_points
@@ -137,7 +138,7 @@ CROSSING = QuinticPath((0.01, 0.17), (-0.01, 0.02), 1.0)
 
 def geometry(mech: Mechanism) -> GeometryFiveBar:
     """The closed-form geometry of a loaded five-bar (from its sidecar parameters)."""
-    return GeometryFiveBar.from_params(mech._require_loops().params)
+    return GeometryFiveBar.from_params(mech.require_loops().params)
 
 
 def point_grid(g: GeometryFiveBar, n: int) -> tuple[np.ndarray, np.ndarray]:
@@ -147,20 +148,13 @@ def point_grid(g: GeometryFiveBar, n: int) -> tuple[np.ndarray, np.ndarray]:
     return np.linspace(-r - d, r + d, n), np.linspace(-r, r, n)
 
 
-class FiveBarFamily(Family):
-    """Hooks of the five-bar: working and assembly modes, A/B of the main drives."""
+class FiveBarPosition(NumericPosition):
+    """Closed-form position problems of the family (the numeric route where none applies)."""
 
-    name = "five_bar"
-    description = "planar five-bar RR-RR with extra drives (paper 004 Fig. 13)"
-    closed = True
-    workspace_options = ("n",)
-
-    def inverse_position(
-        self, mech: Mechanism, target: np.ndarray, output: Output
-    ) -> list[Branch] | None:
+    def inverse(self, mech: Mechanism, target: np.ndarray, output: Output) -> Branches:
         """Four working modes (elbow signs) of the point P."""
         if output.coords != ("x", "y"):
-            return None
+            return super().inverse(mech, target, output)
         g = geometry(mech)
         qs, ok = inverse_position(g, target)
         if not ok:
@@ -168,32 +162,42 @@ class FiveBarFamily(Family):
                 f"{mech.name}: point {target.tolist()} is outside the workspace (a leg cannot "
                 "reach it: |l1 − l2| ≤ |A_i P| ≤ l1 + l2 fails)"
             )
-        return [Branch(full_q(g, target, qs[w]), MODES[w]) for w in range(4)]
+        return Branches.of(mech, [Branch(full_q(g, target, qs[w]), MODES[w]) for w in range(4)])
 
-    def direct_position(self, mech: Mechanism, drives: np.ndarray) -> list[np.ndarray] | None:
+    def direct(self, mech: Mechanism, drives: np.ndarray) -> Assemblies:
         """The two intersections of the circles (B_i, l2_i) (main drives only)."""
-        if mech._require_loops().drives != ("A1", "A2"):
-            return None  # the extra-drive set: numeric route
+        if mech.require_loops().drives != ("A1", "A2"):
+            return super().direct(mech, drives)  # the extra-drive set: numeric route
         g = geometry(mech)
-        return [full_q(g, p, drives) for p in direct_position(g, drives)]
+        return Assemblies.of([full_q(g, p, drives) for p in direct_position(g, drives)])
 
     def mode_labels(self, mech: Mechanism) -> tuple[str, ...]:
         """``++``, ``+-``, ``-+``, ``--``."""
         return MODES
+
+
+class FiveBarFamily(Family):
+    """Hooks of the five-bar: working and assembly modes, A/B of the main drives."""
+
+    name = "five_bar"
+    description = "planar five-bar RR-RR with extra drives (paper 004 Fig. 13)"
+    closed = True
+    workspace_options = ("n",)
+    capabilities = (FiveBarPosition(),)
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
         """``home``: P on the symmetry axis at 60 % of the reach, working mode ``++``."""
         from rcm_pin.analysis.position import inverse
 
         reach = float(
-            mech._require_loops().params["proximal_1"] + mech._require_loops().params["distal_1"]
+            mech.require_loops().params["proximal_1"] + mech.require_loops().params["distal_1"]
         )
         return {"home": inverse(mech, np.array([0.0, 0.6 * reach])).solutions[0].q}
 
     def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Main-drive A / (2 l2_i) and B / (2 l1_i l2_i) (dimensionless determinants)."""
         g = geometry(mech)
-        a_mat, b_mat = ab_matrices(g, mech.output_value(q), q[mech._require_loops().drive_q])
+        a_mat, b_mat = ab_matrices(g, mech.output_value(q), q[mech.require_loops().drive_q])
         return a_mat / (2.0 * g.l2[:, None]), b_mat / (2.0 * (g.l1 * g.l2)[:, None])
 
     def singularity_map(self, mech: Mechanism, **options: Any) -> dict[str, Any]:

@@ -28,6 +28,7 @@ from typing import Any
 
 import numpy as np
 
+from rcm_pin.analysis.capabilities import Assemblies, Branches, NumericPosition
 from rcm_pin.errors import UnreachablePoseError
 from rcm_pin.linkage.fourbar import (
     FourBar,
@@ -84,24 +85,17 @@ def rocker_range(g: FourBar) -> tuple[float, float]:
 
 def geometry(mech: Mechanism) -> FourBar:
     """The closed-form geometry of a loaded four-bar (from its sidecar parameters)."""
-    p = mech._require_loops().params
+    p = mech.require_loops().params
     return FourBar(float(p["frame"]), float(p["crank"]), float(p["coupler"]), float(p["rocker"]))
 
 
-class FourBarFamily(Family):
-    """Hooks of the four-bar: both assembly and working modes, A/B, the rocker's swing."""
+class FourBarPosition(NumericPosition):
+    """Closed-form position problems of the family (the numeric route where none applies)."""
 
-    name = "four_bar"
-    description = "planar four-bar linkages (paper 002)"
-    closed = True
-    workspace_options: tuple[str, ...] = ()
-
-    def inverse_position(
-        self, mech: Mechanism, target: np.ndarray, output: Output
-    ) -> list[Branch] | None:
+    def inverse(self, mech: Mechanism, target: np.ndarray, output: Output) -> Branches:
         """Crank angles of both working modes for a rocker angle."""
         if output.coords != ("rz",):
-            return None
+            return super().inverse(mech, target, output)
         g, psi = geometry(mech), float(target[0])
         cranks = inverse_position(g, psi)
         if not cranks:
@@ -113,16 +107,30 @@ class FourBarFamily(Family):
                 f"{mech.name}: rocker angle {psi:.6g} rad is outside the rocker's range "
                 f"(the crank circle and the coupler circle about B do not meet); valid: {valid}"
             )
-        return [Branch(full_q(g, c, psi), MODES[i]) for i, c in enumerate(cranks)]
+        return Branches.of(
+            mech, [Branch(full_q(g, c, psi), MODES[i]) for i, c in enumerate(cranks)]
+        )
 
-    def direct_position(self, mech: Mechanism, drives: np.ndarray) -> list[np.ndarray] | None:
+    def direct(self, mech: Mechanism, drives: np.ndarray) -> Assemblies:
         """Both assembly modes (B above the line A → O2 first)."""
         g = geometry(mech)
-        return [full_q(g, float(drives[0]), psi) for psi in direct_position(g, float(drives[0]))]
+        return Assemblies.of(
+            [full_q(g, float(drives[0]), psi) for psi in direct_position(g, float(drives[0]))]
+        )
 
     def mode_labels(self, mech: Mechanism) -> tuple[str, ...]:
         """``+``, ``-``."""
         return MODES
+
+
+class FourBarFamily(Family):
+    """Hooks of the four-bar: both assembly and working modes, A/B, the rocker's swing."""
+
+    name = "four_bar"
+    description = "planar four-bar linkages (paper 002)"
+    closed = True
+    workspace_options: tuple[str, ...] = ()
+    capabilities = (FourBarPosition(),)
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
         """``home``: crank along the frame line (q1 = 0), rocker above it."""
@@ -132,7 +140,7 @@ class FourBarFamily(Family):
 
     def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """A / (2 l2 l3) and B / (2 l1 l2) (dimensionless)."""
-        g, loops = geometry(mech), mech._require_loops()
+        g, loops = geometry(mech), mech.require_loops()
         psi = float(mech.output_value(q)[0])
         a_mat, b_mat = ab_matrices(g, float(q[loops.drive_q[0]]), psi)
         return a_mat / (2.0 * g.l2 * g.l3), b_mat / (2.0 * g.l1 * g.l2)

@@ -15,7 +15,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any, TypeVar
 
 import numpy as np
 
@@ -23,6 +23,9 @@ if TYPE_CHECKING:
     from rcm_pin.model.mechanism import Mechanism
     from rcm_pin.model.metric import DesignMetric
     from rcm_pin.model.output import Output
+
+
+T = TypeVar("T")
 
 
 @dataclass(frozen=True)
@@ -98,22 +101,16 @@ class Family:
     #: ``phi_range``); the others are refused, never ignored. The numeric route samples.
     workspace_options: tuple[str, ...] = ("samples",)
 
-    # ---------------------------------------------------------------- position
-    def inverse_position(
-        self, mech: Mechanism, target: np.ndarray, output: Output
-    ) -> list[Branch] | None:
-        """Every closed-form solution for an output value (``output`` may be a subset of
-        the mechanism's output, e.g. the tool position only); None: no closed form."""
-        return None
+    #: The family's implementations of capabilities the consuming layers define (e.g.
+    #: ``rcm_pin.analysis.capabilities.PositionSolver``); each layer's resolver takes the
+    #: one here or its numeric default. ``model`` knows none of their types.
+    capabilities: tuple[object, ...] = ()
 
-    def direct_position(self, mech: Mechanism, drives: np.ndarray) -> list[np.ndarray] | None:
-        """Closed mechanisms: every assembly mode (full q seeds) for drive values."""
-        return None
+    def capability(self, kind: type[T]) -> T | None:
+        """The family's implementation of capability ``kind`` (None: the layer's default)."""
+        return next((c for c in self.capabilities if isinstance(c, kind)), None)
 
-    def mode_labels(self, mech: Mechanism) -> tuple[str, ...] | None:
-        """Labels of the working modes that :meth:`inverse_position` returns, in order."""
-        return None
-
+    # ---------------------------------------------------------------- named poses
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
         """Named configurations (Mechanism coordinates); ``home`` is the default pose."""
         return {}

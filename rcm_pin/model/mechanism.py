@@ -23,6 +23,7 @@ import math
 import threading
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
+from functools import cached_property
 from pathlib import Path
 from typing import Any
 
@@ -30,6 +31,7 @@ import numpy as np
 import pinocchio as pin
 
 from rcm_pin.errors import InvalidInputError
+from rcm_pin.model import configurations
 from rcm_pin.model import loops as lp
 from rcm_pin.model.coupling import Coupling
 from rcm_pin.model.family import Family
@@ -174,16 +176,10 @@ class Mechanism:
         return data
 
     # ------------------------------------------------------------------ coordinates
-    @property
+    @cached_property
     def identity_order(self) -> bool:
         """Whether Pinocchio's q is the coordinate vector itself."""
-        cached = self.__dict__.get("_identity")
-        if cached is None:
-            cached = bool(
-                self.model.nq == self.nq and np.array_equal(self.q_index, np.arange(self.nq))
-            )
-            object.__setattr__(self, "_identity", cached)
-        return cached
+        return bool(self.model.nq == self.nq and np.array_equal(self.q_index, np.arange(self.nq)))
 
     def to_pin(self, q: np.ndarray) -> np.ndarray:
         """Mechanism coordinates -> Pinocchio q (works on (..., n) arrays)."""
@@ -257,18 +253,33 @@ class Mechanism:
         )
 
     # ------------------------------------------------------------------ loops
-    def _require_loops(self) -> lp.Loops:
+    @cached_property
+    def _named(self) -> dict[str, np.ndarray]:
+        return configurations.named_configurations(self)
+
+    @property
+    def configurations(self) -> dict[str, np.ndarray]:
+        """Named configurations, ``home`` always there (:mod:`rcm_pin.model.configurations`)."""
+        return {k: v.copy() for k, v in self._named.items()}
+
+    @property
+    def home(self) -> np.ndarray:
+        """The default pose: the family's ``home``, else the one default (``configurations``)."""
+        return self._named["home"].copy()
+
+    def require_loops(self) -> lp.Loops:
+        """The loop closures; InvalidInputError for a serial mechanism."""
         if self.loops is None:
             raise InvalidInputError(f"{self.name} has no loop closures; valid: a closed mechanism")
         return self.loops
 
     def closure_residual(self, q: np.ndarray) -> np.ndarray:
         """Kept closure rows e(q) [m, rad] at a full configuration (runs FK)."""
-        return lp.closure_residual(self.model, self.data, self._require_loops(), q)
+        return lp.closure_residual(self.model, self.data, self.require_loops(), q)
 
     def residual_and_jacobian(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Closure residual e (m,) and constraint Jacobian J_c (m, nv)."""
-        return lp.residual_and_jacobian(self.model, self.data, self._require_loops(), q)
+        return lp.residual_and_jacobian(self.model, self.data, self.require_loops(), q)
 
     def constraint_jacobian(self, q: np.ndarray) -> np.ndarray:
         """J_c (m, nv): J_c v = 0 along closed-loop motions."""
@@ -290,7 +301,7 @@ class Mechanism:
 
     def with_drives(self, drives: Sequence[str]) -> Mechanism:
         """A copy driven by other joints (e.g. the extra drives of the five-bar)."""
-        return replace(self, loops=self._require_loops().with_drives(self.model, drives))
+        return replace(self, loops=self.require_loops().with_drives(self.model, drives))
 
     def with_models(self, model: pin.Model, model_full: pin.Model) -> Mechanism:
         """A copy on modified Pinocchio models of the same structure (e.g. gravity)."""

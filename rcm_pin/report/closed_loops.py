@@ -78,7 +78,7 @@ def singularity_agreement(
             s = screw_test(mech, q)
             a_mat, b_mat = p3.ab_matrices(g, pose, qs[mode])
             sa = np.linalg.svd(
-                a_mat * np.array([1, 1, 1 / mech._require_loops().length_scale]), compute_uv=False
+                a_mat * np.array([1, 1, 1 / mech.require_loops().length_scale]), compute_uv=False
             )
             sb = np.linalg.svd(b_mat, compute_uv=False)
             cf1, cf2 = sb[-1] / sb[0] < SINGULAR_TOL, sa[-1] / sa[0] < SINGULAR_TOL

@@ -67,7 +67,7 @@ def crank_turn(mech: Mechanism, q_start: np.ndarray, n: int = 721) -> CrankTurn:
     Returns:
         The :class:`CrankTurn`.
     """
-    loops = mech._require_loops()
+    loops = mech.require_loops()
     theta0 = float(q_start[loops.drive_q[0]])
     theta = theta0 + np.linspace(0.0, 2.0 * math.pi, n)
     qs = direct_position_path(mech, theta[:, None], q_start)

@@ -40,7 +40,7 @@ def pitch_model(g: FourBar) -> Mechanism:
 def simulate(g: FourBar, n: int = 361) -> tuple[Mechanism, CrankTurn]:
     """The Pinocchio loop of ``g`` driven through a full crank turn from ``home``."""
     m = pitch_model(g)
-    return m, crank_turn(m, m.family.configurations(m)["home"], n)
+    return m, crank_turn(m, m.home, n)
 
 
 def _swing(p: Performance, t: CrankTurn) -> tuple[float, float]:

@@ -30,7 +30,7 @@ def motion_check(mech: Mechanism, n: int = 241) -> tuple[float, float]:
     t = np.linspace(0.0, 1.0, n)
     path = np.column_stack([4 * np.pi * t, 2 * np.pi * t, 0.5 * np.sin(2 * np.pi * t),
                             np.pi * np.sin(4 * np.pi * t)])  # fmt: skip
-    qs = direct_position_path(mech, path, mech.family.configurations(mech)["home"])
+    qs = direct_position_path(mech, path, mech.home)
     residual, gaze = 0.0, 0.0
     for q, drives in zip(qs, path, strict=True):
         residual = max(residual, float(np.abs(mech.closure_residual(q)).max()))

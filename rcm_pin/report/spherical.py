@@ -58,9 +58,9 @@ def _claims(mech: Mechanism, rng: np.random.Generator) -> tuple[list[Comparison]
     g = geometry(mech)
     R = rpy_to_matrix(*POSE)
     sol = inverse(mech, R).solutions[0]  # working mode +++, Pinocchio-polished
-    tan_q = np.tan(sol.q[mech._require_loops().drive_q])
+    tan_q = np.tan(sol.q[mech.require_loops().drive_q])
     tan = paper.tan_phi(*POSE)
-    angles = _axis_angles(mech, mech.family.configurations(mech)["home"])
+    angles = _axis_angles(mech, mech.home)
     counts = [forward(mech, phi, all_modes=True).count for phi in rng.uniform(-3, 3, (50, 3))]
     numeric = []  # second route: multistart Newton, minus the four drive-independent roots
     for k, phi in enumerate(rng.uniform(-3, 3, (3, 3))):

@@ -101,7 +101,7 @@ def _energies(
     mech: Mechanism, vib: Vibrations, q0: np.ndarray, y: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
     """(total energy (N,), modal energies (N, k)) of states y (N, 2 nv)."""
-    loops = mech._require_loops()
+    loops = mech.require_loops()
     n = mech.model.nv
     data = mech.model.createData()
     c, phi, m_q, w = vib.stiffness, vib.modes, vib.mass, vib.frequencies

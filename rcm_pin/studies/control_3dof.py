@@ -153,7 +153,7 @@ def run(
     )
     if not res.completed:
         raise SolverError(f"{plant.name}: the control example stopped: {res.status}")
-    drives = plant._require_loops().drive_v
+    drives = plant.require_loops().drive_v
     return ControlRun(
         t=res.t,
         error=res.x - res.x_ref,

@@ -144,7 +144,7 @@ def simulate(
         stop_error=None,
         events=[(f"|tau| > {s.blowup:g} N*m or type-2 measure < 1e-9", blowup)],
     )
-    loops = mech._require_loops()
+    loops = mech.require_loops()
     return Run(
         label=label,
         t=run.t,
@@ -169,7 +169,7 @@ def torque_along_reference(
     """
     s = s or StudySettings()
     g = fb.geometry(mech)
-    extra = mech._require_loops().extra_drives
+    extra = mech.require_loops().extra_drives
     ts = np.linspace(0.0, s.duration, n)
     out = {"t": ts, "main": np.zeros((n, 2)), "extra": np.zeros((n, 2)), "measure": np.zeros(n)}
     for i, t in enumerate(ts):

@@ -160,7 +160,7 @@ def controller(mech: Mechanism, s: TrackingSettings) -> ComputedTorque:
 
 def reference_torques(mech: Mechanism, s: TrackingSettings, t: np.ndarray) -> np.ndarray:
     """Drive torques (N, 3) [N·m] on the exact reference (inverse position, velocity, ID)."""
-    out = np.zeros((len(t), mech._require_loops().dof))
+    out = np.zeros((len(t), mech.require_loops().dof))
     for i, ti in enumerate(t):
         p, pd, pdd = s.reference(float(ti))
         q = configuration(mech, p, s.mode)
@@ -194,7 +194,7 @@ def simulate_tracking(mech: Mechanism, s: TrackingSettings | None = None) -> Tra
         raise SingularConfigurationError(f"{mech.name}: integration failed: {run.status}")
     err = run.x - run.x_ref
     err[:, 2] = wrap_angle(err[:, 2])
-    drives = mech._require_loops().drive_v
+    drives = mech.require_loops().drive_v
     return TrackingResult(
         t=run.t,
         q=run.q,
@@ -204,7 +204,7 @@ def simulate_tracking(mech: Mechanism, s: TrackingSettings | None = None) -> Tra
         error=err,
         closure_residual=run.closure_residual,
         settings=s,
-        info={"nfev": run.nfev, "drives": list(mech._require_loops().drives), **path},
+        info={"nfev": run.nfev, "drives": list(mech.require_loops().drives), **path},
     )
 
 

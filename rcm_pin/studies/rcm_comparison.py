@@ -105,7 +105,7 @@ def reach(mech: Mechanism, frame_id: int, extra: float) -> float:
 def _arm(
     mech: Mechanism, trocar: tuple[float, float, float], frame: str | None = None, axis: str = "z"
 ) -> RcmSetup:
-    home = np.asarray(mech.family.configurations(mech)["home"], dtype=float)
+    home = np.asarray(mech.home, dtype=float)
     frame = str(mech.model.frames[mech.tool_frame_id].name) if frame is None else frame
     chain = chain_model(mech, frame, axis, TOOL_LENGTH, trocar, home)  # checks frame, axis
     fid = mech.model.getFrameId(frame)
@@ -122,7 +122,7 @@ def _arm(
 
 def _mechanical(mech: Mechanism, trocar: Any) -> RcmSetup:
     assert mech.rcm is not None
-    home = np.asarray(mech.family.configurations(mech)["home"], dtype=float)
+    home = np.asarray(mech.home, dtype=float)
     update(mech.model, mech.data, mech.to_pin(home))
     apex = tuple(float(x) for x in mech.data.oMf[mech.rcm.point_frame_id].translation)
     if trocar is not None and not np.allclose(trocar_point(trocar), apex, rtol=0, atol=1e-12):
@@ -206,7 +206,7 @@ def choose_trocar(name: str) -> tuple[RcmSetup, tuple[tuple[tuple[float, ...], f
     """The arm's set-up at the best trocar, and every candidate with its score (−1:
     unreachable) (module docstring)."""
     mech = load(name)
-    home = np.asarray(mech.family.configurations(mech)["home"], dtype=float)
+    home = np.asarray(mech.home, dtype=float)
     update(mech.model, mech.data, mech.to_pin(home))
     M = mech.data.oMf[mech.tool_frame_id]
     a, p_s = M.rotation[:, 2], M.translation

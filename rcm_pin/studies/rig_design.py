@@ -73,7 +73,7 @@ def rig_answer(frame: pd.DataFrame) -> RigAnswer:
 def monte_carlo_drift(name: str, samples: int = 400, seed: int = 7) -> tuple[float, float]:
     """(first-order RMS |c|, nonlinear Monte Carlo RMS |c|) [m] at the ``mid`` pose."""
     mech = load(name)
-    q = mech.family.configurations(mech)["mid"]
+    q = mech.configurations["mid"]
     names, sens = rd.drift_sensitivities(mech, q)
     sig = rd.sigmas()
     linear = float(np.sqrt(np.sum(sig**2 * np.sum(sens**2, axis=1))))
@@ -96,7 +96,7 @@ def monte_carlo_drift(name: str, samples: int = 400, seed: int = 7) -> tuple[flo
 def tolerance_table(name: str, top: int = 6) -> list[tuple[str, float]]:
     """The ``top`` largest shares of E|c|² at the ``mid`` pose."""
     mech = load(name)
-    return rd.drift_contributions(mech, mech.family.configurations(mech)["mid"])[:top]
+    return rd.drift_contributions(mech, mech.configurations["mid"])[:top]
 
 
 __all__ = [

@@ -92,7 +92,7 @@ def setups() -> list[PathSetup]:
 def passive_det(mech: Mechanism, q: np.ndarray) -> float:
     """det J_c,p: Pinocchio's world closure Jacobian, passive columns."""
     _, jc, _ = world_closure(mech, q, np.zeros(mech.model.nv))
-    return float(np.linalg.det(jc[:, mech._require_loops().passive_v]))
+    return float(np.linalg.det(jc[:, mech.require_loops().passive_v]))
 
 
 def _q(mech: Mechanism, p: PathSetup, s: float) -> np.ndarray:

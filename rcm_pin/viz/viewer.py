@@ -20,7 +20,6 @@ from above the plane for a planar mechanism (:func:`rcm_pin.model.loops.plane_no
 
 from __future__ import annotations
 
-import contextlib
 import time
 import warnings
 
@@ -31,7 +30,7 @@ with warnings.catch_warnings():  # meshcat imports pyzmq's deprecated zmq.eventl
     warnings.simplefilter("ignore", DeprecationWarning)
     from meshcat.animation import Animation
 
-from rcm_pin.errors import InvalidInputError, RcmPinError
+from rcm_pin.errors import InvalidInputError
 from rcm_pin.model.constraints import plane_normal
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.viz import overlays as ov
@@ -43,18 +42,8 @@ PLANAR_VIEW = np.array([0.2, -0.7, 1.0])
 
 
 def default_configuration(mech: Mechanism) -> np.ndarray:
-    """The family's ``home`` configuration, else zeros clipped to the limits (a closed
-    mechanism's loops then closed from there when Newton converges)."""
-    home = mech.family.configurations(mech).get("home")
-    if home is not None:
-        return mech.check_q(home, "home").copy()
-    q = np.clip(np.zeros(mech.nq), mech.lower, mech.upper)
-    if mech.loops is not None:
-        from rcm_pin.analysis.position import forward
-
-        with contextlib.suppress(RcmPinError):  # else shown open: the closure gap tells
-            q = forward(mech, q[mech.loops.drive_q], q_guess=q).solutions[0].q
-    return q
+    """``mech.home`` (the one rule of :mod:`rcm_pin.model.configurations`)."""
+    return mech.home
 
 
 def view_direction(mech: Mechanism) -> np.ndarray | None:

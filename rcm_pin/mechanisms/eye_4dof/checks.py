@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
+from rcm_pin.analysis.capabilities import position_solver
 from rcm_pin.mechanisms.eye_4dof.closed_form import gaze_angles
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.rotations import rot_y, rot_z
@@ -102,7 +103,7 @@ def interference(mech: Mechanism, n: int = 13, lid: float = 0.0, roll: float = 0
     cmap = np.full((n, n), np.inf)
     for a, t1 in enumerate(theta):
         for b, t2 in enumerate(theta):
-            sols = mech.family.direct_position(mech, np.array([t1, t2, lid, roll]))
+            sols = position_solver(mech).direct(mech, np.array([t1, t2, lid, roll])).seeds
             if not sols:
                 continue
             pin.computeDistances(mech.model, mech.data, gm, gd, sols[0])

@@ -7,6 +7,7 @@ import math
 import numpy as np
 import pinocchio as pin
 
+from rcm_pin.analysis.capabilities import Assemblies, Branches, NumericPosition
 from rcm_pin.errors import UnreachablePoseError
 from rcm_pin.linkage.fourbar import performance
 from rcm_pin.mechanisms.eye_4dof.closed_form import (
@@ -28,7 +29,7 @@ MODES = ("+f", "+b", "-f", "-b")
 
 def geometry(mech: Mechanism) -> EyeGeometry:
     """The closed-form geometry of a loaded eye linkage."""
-    return EyeGeometry.from_params(mech._require_loops().params)
+    return EyeGeometry.from_params(mech.require_loops().params)
 
 
 def to_q(mech: Mechanism, values: dict[str, float]) -> np.ndarray:
@@ -63,24 +64,13 @@ def gaze_range(g: EyeGeometry) -> tuple[tuple[float, float], float]:
     return (lo - math.pi / 2, hi - math.pi / 2), math.asin(min(1.0, g.l10 / g.l4))
 
 
-class EyeFamily(Family):
-    """The eye linkage: every sub-linkage in closed form (:mod:`.closed_form`)."""
+class EyePosition(NumericPosition):
+    """Closed-form position problems of the family (the numeric route where none applies)."""
 
-    name = "eye_4dof"
-    description = "spatial four-DOF eye linkage (paper 002)"
-    closed = True
-
-    def direct_position(self, mech: Mechanism, drives: np.ndarray) -> list[np.ndarray] | None:
-        """The upper circuit of the pitch four-bar and the principal yaw (|α| < π/2)."""
-        values = joint_values(geometry(mech), np.asarray(drives, dtype=float))
-        return [] if values is None else [to_q(mech, values)]
-
-    def inverse_position(
-        self, mech: Mechanism, target: np.ndarray, output: Output
-    ) -> list[Branch] | None:
+    def inverse(self, mech: Mechanism, target: np.ndarray, output: Output) -> Branches:
         """Drives for a camera orientation R = Ry(−e) Rz(α) Rx(ρ) (lid at 0)."""
         if output.coords != ("rotation",):
-            return None
+            return super().inverse(mech, target, output)
         g = geometry(mech)
         e, alpha, roll = gaze_angles(np.asarray(target, dtype=float).reshape(3, 3))
         t1s, t2s = pitch_cranks(g, e), yaw_cranks(g, alpha)
@@ -98,11 +88,25 @@ class EyeFamily(Family):
                 values = joint_values(g, np.array([t1, t2, 0.0, roll]))
                 if values is not None:
                     out.append(Branch(to_q(mech, values), MODES[2 * i + k]))
-        return out
+        return Branches.of(mech, out)
+
+    def direct(self, mech: Mechanism, drives: np.ndarray) -> Assemblies:
+        """The upper circuit of the pitch four-bar and the principal yaw (|α| < π/2)."""
+        values = joint_values(geometry(mech), np.asarray(drives, dtype=float))
+        return Assemblies.of([] if values is None else [to_q(mech, values)])
 
     def mode_labels(self, mech: Mechanism) -> tuple[str, ...]:
         """Pitch crank side (+/−) × yaw crank pin ahead / behind (f/b)."""
         return MODES
+
+
+class EyeFamily(Family):
+    """The eye linkage: every sub-linkage in closed form (:mod:`.closed_form`)."""
+
+    name = "eye_4dof"
+    description = "spatial four-DOF eye linkage (paper 002)"
+    closed = True
+    capabilities = (EyePosition(),)
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
         """``home``: every drive at 0; ``straight``: gaze straight ahead (mode ``+f``)."""

@@ -16,6 +16,7 @@ from typing import Any
 
 import numpy as np
 
+from rcm_pin.analysis.capabilities import Assemblies, Branches, NumericPosition
 from rcm_pin.errors import InvalidInputError, UnreachablePoseError
 from rcm_pin.mechanisms.planar_3rrr import closed_form as p3
 from rcm_pin.model.family import Branch, Family
@@ -30,11 +31,11 @@ MODES = tuple(f"{w:03b}".replace("0", "+").replace("1", "-") for w in range(8))
 
 def geometry(mech: Mechanism) -> p3.Geometry3RRR:
     """The closed-form geometry of a loaded 3-RRR (from its sidecar parameters)."""
-    return p3.Geometry3RRR.from_params(mech._require_loops().params)
+    return p3.Geometry3RRR.from_params(mech.require_loops().params)
 
 
 def _pose_and_drives(mech: Mechanism, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    return mech.output_value(q), q[mech._require_loops().drive_q]
+    return mech.output_value(q), q[mech.require_loops().drive_q]
 
 
 def normalised_ab(
@@ -48,20 +49,13 @@ def normalised_ab(
     return a_n, b_n
 
 
-class Planar3RRRFamily(Family):
-    """Hooks of the planar 3-RRR (module docstring)."""
+class Planar3RRRPosition(NumericPosition):
+    """Closed-form position problems of the family (the numeric route where none applies)."""
 
-    name = "planar_3rrr"
-    description = "planar 3-RRR parallel mechanisms (paper 004)"
-    closed = True
-    workspace_options = ("n", "phi", "phi_range")
-
-    def inverse_position(
-        self, mech: Mechanism, target: np.ndarray, output: Output
-    ) -> list[Branch] | None:
+    def inverse(self, mech: Mechanism, target: np.ndarray, output: Output) -> Branches:
         """Eight working modes (elbow signs) from the loop equations."""
         if output.coords != ("x", "y", "rz"):
-            return None
+            return super().inverse(mech, target, output)
         g = geometry(mech)
         qs, ok = p3.inverse_position(g, target)
         if not ok:
@@ -69,16 +63,26 @@ class Planar3RRRFamily(Family):
                 f"{mech.name}: pose {target.tolist()} is outside the workspace (a leg cannot "
                 "reach its platform point: |l1 − l2| ≤ |A_i C_i| ≤ l1 + l2 fails)"
             )
-        return [Branch(p3.full_q(g, target, qs[w]), MODES[w]) for w in range(8)]
+        return Branches.of(mech, [Branch(p3.full_q(g, target, qs[w]), MODES[w]) for w in range(8)])
 
-    def direct_position(self, mech: Mechanism, drives: np.ndarray) -> list[np.ndarray] | None:
+    def direct(self, mech: Mechanism, drives: np.ndarray) -> Assemblies:
         """Every assembly mode: real roots of the sextic in φ."""
         g = geometry(mech)
-        return [p3.full_q(g, pose, drives) for pose in p3.direct_position(g, drives)]
+        return Assemblies.of([p3.full_q(g, pose, drives) for pose in p3.direct_position(g, drives)])
 
     def mode_labels(self, mech: Mechanism) -> tuple[str, ...]:
         """``+++`` … ``---``."""
         return MODES
+
+
+class Planar3RRRFamily(Family):
+    """Hooks of the planar 3-RRR (module docstring)."""
+
+    name = "planar_3rrr"
+    description = "planar 3-RRR parallel mechanisms (paper 004)"
+    closed = True
+    workspace_options = ("n", "phi", "phi_range")
+    capabilities = (Planar3RRRPosition(),)
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
         """``home``: the platform centred at the origin, φ = 0, working mode ``+++``."""

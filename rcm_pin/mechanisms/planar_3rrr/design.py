@@ -67,7 +67,7 @@ def mean_conditioning(mech: Mechanism) -> float:
     if not region.any():
         return 0.0
     jac = output_jacobians(mech, grid.poses(0.0)[region], q[region])
-    jac[:, 2, :] *= mech._require_loops().length_scale
+    jac[:, 2, :] *= mech.require_loops().length_scale
     s = np.linalg.svd(jac, compute_uv=False)
     return float(np.mean(s[:, -1] / s[:, 0]))
 

@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from rcm_pin.analysis.capabilities import Branches, NumericPosition, ReferencePoses
 from rcm_pin.model.family import Branch, Cause, Family, StopEvent, TaskKinematics
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import Output
@@ -32,15 +33,10 @@ BELT_PARAMS = ("l9", "a7_x", "a7_z", "d1", "d2", "d3", "d4")
 PLACEMENT_JOINTS = ("pair4", "pair7", "pair10", "pair12", "pair24")
 
 
-class RcmFamily(Family):
-    """Hooks of the RCM mechanisms (module docstring)."""
+class RcmPosition(NumericPosition):
+    """Closed-form position problems of the family (the numeric route where none applies)."""
 
-    name = "rcm"
-    description = "RCM mechanisms with bevel-gear or belt transmissions (papers 000/003)"
-
-    def inverse_position(
-        self, mech: Mechanism, target: np.ndarray, output: Output
-    ) -> list[Branch] | None:
+    def inverse(self, mech: Mechanism, target: np.ndarray, output: Output) -> Branches:
         """Analytic IK: every branch of a tool pose (4-/6-DOF) or a tool position."""
         from rcm_pin.mechanisms.rcm.inverse import solve_ik, solve_ik_position
 
@@ -48,12 +44,32 @@ class RcmFamily(Family):
             res = solve_ik_position(mech, target)
             full = np.zeros((len(res.q), mech.nq))
             full[:, :3] = res.q
-            return [Branch(q, f"branch_{b}") for b, q in enumerate(full)]
+            return Branches.of(mech, [Branch(q, f"branch_{b}") for b, q in enumerate(full)])
         if output.coords == ("x", "y", "z", "rotation") and mech.nq in (4, 6):
             T = np.eye(4)
             T[:3, 3], T[:3, :3] = target[:3], target[3:].reshape(3, 3)
-            return [Branch(q, f"branch_{b}") for b, q in enumerate(solve_ik(mech, T).q)]
-        return None
+            return Branches.of(
+                mech, [Branch(q, f"branch_{b}") for b, q in enumerate(solve_ik(mech, T).q)]
+            )
+        return super().inverse(mech, target, output)
+
+
+class RcmPoses(ReferencePoses):
+    """Singularity maps around ``mid`` (off the zyz wrist), accuracy at ``regular``."""
+
+    def regular(self, mech: Mechanism) -> np.ndarray:
+        return mech.configurations["mid"]
+
+    def accuracy(self, mech: Mechanism) -> np.ndarray:
+        return mech.configurations["regular"]
+
+
+class RcmFamily(Family):
+    """Hooks of the RCM mechanisms (module docstring)."""
+
+    name = "rcm"
+    description = "RCM mechanisms with bevel-gear or belt transmissions (papers 000/003)"
+    capabilities = (RcmPosition(), RcmPoses())
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
         """``home`` (zeros clipped to the limits), ``mid`` (the middle of the joint box,

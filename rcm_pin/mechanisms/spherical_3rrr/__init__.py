@@ -45,6 +45,7 @@ from typing import Any
 
 import numpy as np
 
+from rcm_pin.analysis.capabilities import Assemblies, Branches, NumericPosition
 from rcm_pin.errors import SingularConfigurationError, UnreachablePoseError
 from rcm_pin.mechanisms.spherical_3rrr import accuracy, direct
 from rcm_pin.mechanisms.spherical_3rrr import closed_form as sc
@@ -61,7 +62,7 @@ MODES = tuple(f"{w:03b}".replace("0", "+").replace("1", "-") for w in range(8))
 
 def geometry(mech: Mechanism) -> sc.GeometrySpherical:
     """The closed-form geometry of a loaded spherical 3-RRR (from its sidecar parameters)."""
-    return sc.GeometrySpherical.from_params(mech._require_loops().params)
+    return sc.GeometrySpherical.from_params(mech.require_loops().params)
 
 
 def full_q(mech: Mechanism, R: np.ndarray, phi: np.ndarray) -> np.ndarray:
@@ -72,7 +73,7 @@ def full_q(mech: Mechanism, R: np.ndarray, phi: np.ndarray) -> np.ndarray:
 
 def pose_and_drives(mech: Mechanism, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """(R (3, 3), φ (3,)) of a closed configuration."""
-    return mech.output_value(q).reshape(3, 3), np.asarray(q)[mech._require_loops().drive_q]
+    return mech.output_value(q).reshape(3, 3), np.asarray(q)[mech.require_loops().drive_q]
 
 
 def normalised_ab(
@@ -83,19 +84,13 @@ def normalised_ab(
     return a_mat / np.sin(g.t2)[:, None], b_mat / (np.sin(g.t1) * np.sin(g.t2))[:, None]
 
 
-class Spherical3RRRFamily(Family):
-    """Hooks of the spherical 3-RRR (module docstring)."""
+class Spherical3RRRPosition(NumericPosition):
+    """Closed-form position problems of the family (the numeric route where none applies)."""
 
-    name = "spherical_3rrr"
-    description = "spherical 3-RRR parallel mechanisms, Agile Eye (paper 004)"
-    closed = True
-
-    def inverse_position(
-        self, mech: Mechanism, target: np.ndarray, output: Output
-    ) -> list[Branch] | None:
+    def inverse(self, mech: Mechanism, target: np.ndarray, output: Output) -> Branches:
         """Eight working modes (two roots of each leg's tan(φ/2) quadratic)."""
         if output.coords != ("rotation",):
-            return None
+            return super().inverse(mech, target, output)
         g, R = geometry(mech), np.asarray(target, dtype=float).reshape(3, 3)
         _, delta, rho = sc.leg_roots(g, R)
         if np.any(rho < sc.DELTA_TOL):
@@ -113,19 +108,28 @@ class Spherical3RRRFamily(Family):
                 "|γ_i − θ_i1| ≤ θ_i2 ≤ min(γ_i + θ_i1, 2π − γ_i − θ_i1), γ_i = angle(u_i, v_i)"
             )
         phis = sc.inverse_position(g, R)
-        return [Branch(full_q(mech, R, phis[w]), MODES[w]) for w in range(8)]
+        return Branches.of(mech, [Branch(full_q(mech, R, phis[w]), MODES[w]) for w in range(8)])
 
-    def direct_position(self, mech: Mechanism, drives: np.ndarray) -> list[np.ndarray] | None:
+    def direct(self, mech: Mechanism, drives: np.ndarray) -> Assemblies:
         """Every assembly mode: the Agile Eye's closed form (4), else the real roots of the
         degree-4 trigonometric polynomial of :mod:`.direct` (at most 8)."""
         g = geometry(mech)
         phi = np.asarray(drives, dtype=float)
         rs = sc.direct_position(g, phi) if g.agile_eye else direct.direct_position(g, phi)
-        return [full_q(mech, R, phi) for R in rs]
+        return Assemblies.of([full_q(mech, R, phi) for R in rs])
 
     def mode_labels(self, mech: Mechanism) -> tuple[str, ...]:
         """``+++`` … ``---``."""
         return MODES
+
+
+class Spherical3RRRFamily(Family):
+    """Hooks of the spherical 3-RRR (module docstring)."""
+
+    name = "spherical_3rrr"
+    description = "spherical 3-RRR parallel mechanisms, Agile Eye (paper 004)"
+    closed = True
+    capabilities = (Spherical3RRRPosition(),)
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
         """``home``: R = I, φ = 0, working mode ``+++`` (every joint angle 0)."""

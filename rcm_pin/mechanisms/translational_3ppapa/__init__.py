@@ -13,6 +13,7 @@ from typing import Any
 
 import numpy as np
 
+from rcm_pin.analysis.capabilities import Assemblies, Branches, DefaultPoses, NumericPosition
 from rcm_pin.errors import InvalidInputError, UnreachablePoseError
 from rcm_pin.mechanisms.translational_3ppapa import accuracy
 from rcm_pin.mechanisms.translational_3ppapa.closed_form import (
@@ -41,7 +42,7 @@ REGULAR = (0.1, 0.12, 0.15)
 
 def geometry(mech: Mechanism) -> Geometry3PPaPa:
     """The closed-form geometry of a loaded 3-PPaPa (from its sidecar parameters)."""
-    return Geometry3PPaPa.from_params(mech._require_loops().params)
+    return Geometry3PPaPa.from_params(mech.require_loops().params)
 
 
 def drive_limits(mech: Mechanism) -> tuple[float, float]:
@@ -88,19 +89,13 @@ def crank_angles(mech: Mechanism, q: np.ndarray) -> np.ndarray:
     return np.array([[q[names.index(f"c{i}{k}")] for k in (1, 2)] for i in (1, 2, 3)])
 
 
-class Translational3PPaPaFamily(Family):
-    """Hooks of the 3-PPaPa: 64 working modes, assembly modes, A (paper) and B = I."""
+class Translational3PPaPaPosition(NumericPosition):
+    """Closed-form position problems of the family (the numeric route where none applies)."""
 
-    name = "translational_3ppapa"
-    description = "translational 3-PPaPa parallel mechanism (paper 004 Fig. 4)"
-    closed = True
-
-    def inverse_position(
-        self, mech: Mechanism, target: np.ndarray, output: Output
-    ) -> list[Branch] | None:
+    def inverse(self, mech: Mechanism, target: np.ndarray, output: Output) -> Branches:
         """Every working mode reaching P (the paper's explicit solution)."""
         if output.coords != ("x", "y", "z"):
-            return None
+            return super().inverse(mech, target, output)
         g, p = geometry(mech), np.asarray(target, dtype=float)
         sols = inverse_position(g, p)
         if not sols:
@@ -109,9 +104,9 @@ class Translational3PPaPaFamily(Family):
                 f"{mech.name}: platform point {p.tolist()} m is out of reach (a crank "
                 f"cannot span it); valid: |x|, |y|, |z| <= min(l1, l2) = {r:.6g} m"
             )
-        return [Branch(mech_q(mech, q, ang), lab) for lab, q, ang in sols]
+        return Branches.of(mech, [Branch(mech_q(mech, q, ang), lab) for lab, q, ang in sols])
 
-    def direct_position(self, mech: Mechanism, drives: np.ndarray) -> list[np.ndarray] | None:
+    def direct(self, mech: Mechanism, drives: np.ndarray) -> Assemblies:
         """Every assembly mode of the batched direct solver (:mod:`.direct`, ``++/++/++``
         first), as seeds that the generic code polishes on Pinocchio's closures."""
         g = geometry(mech)
@@ -121,11 +116,27 @@ class Translational3PPaPaFamily(Family):
             legs = [leg_angles(g, p, i, pattern[i]) for i in range(3)]
             ang = np.array([x[1:] for x in legs if x is not None])
             out.append(mech_q(mech, np.asarray(drives, dtype=float), ang))
-        return out
+        return Assemblies.of(out)
 
     def mode_labels(self, mech: Mechanism) -> tuple[str, ...]:
         """The 64 sign patterns ``s11s12/s21s22/s31s32``."""
         return MODES
+
+
+class Translational3PPaPaPoses(DefaultPoses):
+    """Accuracy at the paper's ``regular`` pose."""
+
+    def accuracy(self, mech: Mechanism) -> np.ndarray:
+        return mech.configurations["regular"]
+
+
+class Translational3PPaPaFamily(Family):
+    """Hooks of the 3-PPaPa: 64 working modes, assembly modes, A (paper) and B = I."""
+
+    name = "translational_3ppapa"
+    description = "translational 3-PPaPa parallel mechanism (paper 004 Fig. 4)"
+    closed = True
+    capabilities = (Translational3PPaPaPosition(), Translational3PPaPaPoses())
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
         """``home``: P = 0, every crank along its drive axis; ``regular``: P at the paper's
@@ -173,7 +184,7 @@ class Translational3PPaPaFamily(Family):
         """1 mm errors in l1, l2, l3, drives locked: the linear theory (Cramer's rule,
         denominator det A restored) beside the nonlinear re-solve (:mod:`.accuracy`)."""
         g, qc = geometry(mech), mech.check_q(q)
-        drives = qc[list(mech._require_loops().drive_q)]
+        drives = qc[list(mech.require_loops().drive_q)]
         angles = crank_angles(mech, qc)
         signs = np.where(np.cos(angles) >= 0.0, 1.0, -1.0)
         p = platform_point(g, drives, angles)
