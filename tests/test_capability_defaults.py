@@ -94,8 +94,7 @@ def throwaway(tmp_path, monkeypatch):
 
 def run(command: str, path, tmp_path, capsys) -> tuple[int, str]:
     extra = SERIAL[command]
-    if extra is None:
-        pytest.skip(f"{command} takes no mechanism by path")
+    assert extra is not None, f"{command} takes no mechanism by path"
     head = BEFORE.get(command, [command])
     argv = (
         head + ([] if command == "list" else [str(path)]) + [a.format(tmp=tmp_path) for a in extra]
@@ -106,7 +105,7 @@ def run(command: str, path, tmp_path, capsys) -> tuple[int, str]:
     return code, out.err
 
 
-@pytest.mark.parametrize("command", sorted(SERIAL))
+@pytest.mark.parametrize("command", sorted(c for c, extra in SERIAL.items() if extra is not None))
 def test_throwaway_family_runs_every_command(command, throwaway, tmp_path, capsys):
     path = render(tmp_path, "throwaway")
     import rcm_pin

@@ -17,7 +17,6 @@ from __future__ import annotations
 
 import numpy as np
 import pinocchio as pin
-from scipy.optimize import least_squares
 
 from rcm_pin.model.family import Branch
 from rcm_pin.model.mechanism import Mechanism
@@ -66,6 +65,8 @@ def solve_one(
     e0 = evaluate(x0)[0]
     if float(np.max(np.abs(e0), initial=0.0)) < TOL:  # already there
         return x0, float(np.max(np.abs(e0), initial=0.0))
+    from scipy.optimize import least_squares  # lazy: `import rcm_pin` stays without scipy
+
     res = least_squares(
         lambda q: evaluate(q)[0],
         x0,

@@ -34,6 +34,7 @@ from rcm_pin.errors import InvalidInputError
 from rcm_pin.model import configurations
 from rcm_pin.model import loops as lp
 from rcm_pin.model.coupling import Coupling
+from rcm_pin.model.describe import describe
 from rcm_pin.model.family import Family
 from rcm_pin.model.output import Output
 from rcm_pin.rotations import MAX_ABS, check_magnitude, numeric_array
@@ -113,19 +114,7 @@ class Mechanism:
     source: Path | None = None
     _local: threading.local = field(default_factory=threading.local, init=False, repr=False)
 
-    def __repr__(self) -> str:
-        """One line: name, family, joints of the coordinates, frames, closures (no URDF)."""
-        parts = [f"name={self.name!r}", f"family={self.family.name!r}"]
-        parts += [f"coordinates={' '.join(self.joint_names)!r}"]
-        parts += [f"args={dict(self.args)!r}"] if self.args else []
-        if self.loops is None:
-            rcm = "" if self.rcm is None else self.model.frames[self.rcm.point_frame_id].name
-            parts += [f"tool_frame={self.output.frame!r}"] + [f"rcm_frame={rcm!r}"] * bool(rcm)
-            return f"Mechanism({', '.join([*parts, 'closures=None'])})"
-        kinds = [c.kind for c in self.loops.closures]
-        closures = " + ".join(f"{kinds.count(k)} × {k}" for k in dict.fromkeys(kinds))
-        parts += [f"output_frame={self.output.frame!r}", f"closures={closures!r}"]
-        return f"Mechanism({', '.join(parts)}, drives={' '.join(self.loops.drives)!r})"
+    __repr__ = describe  # one line: name, family, coordinates, frames, closures; no URDF
 
     # ------------------------------------------------------------------ sizes
     @property
