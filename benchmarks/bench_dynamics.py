@@ -271,7 +271,7 @@ def compiled_costs(duration: float) -> dict[str, Any]:
     assert fresh is not None and hit is not None and vm is not None
     r = simulate(mech, ctrl, duration, samples=11)
     ys = [np.concatenate([q, v]) for q, v in _states(r)]
-    law, plant, fast = ctrl._hot_path(mech), SerialPlant(mech), compiled_rhs(mech, ctrl)
+    law, plant, fast = ctrl.hot_path_law(mech), SerialPlant(mech), compiled_rhs(mech, ctrl)
 
     def python_rhs() -> int:
         for _ in range(200):

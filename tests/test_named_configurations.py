@@ -82,3 +82,23 @@ def test_require_loops_is_public():
     assert out == ""
     with pytest.raises(rcm_pin.errors.InvalidInputError):
         rcm_pin.load("rcm_bevel").require_loops()
+
+
+def test_no_private_controller_state_is_read_across_modules():
+    """The hot paths and simulate use the controller's public posture, task_error and
+    hot_path_law (issue 24, item 4), never its private names."""
+    out = subprocess.run(
+        [
+            "grep",
+            "-rnE",
+            "--include=*.py",
+            r"\._posture|\._task_error|_hot_path\(\)",
+            "rcm_pin",
+            "ocp",
+        ],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        check=False,
+    ).stdout
+    assert out == ""

@@ -74,7 +74,7 @@ def test_law_matches_the_public_effort(rrr, limit: float | None) -> None:
     mech, states = rrr
     sc = scenarios(mech)["circle"]
     ctrl = ComputedTorque(mech, sc.reference, sc.gains, limits=limit)
-    law = ctrl._hot_path(mech)
+    law = ctrl.hot_path_law(mech)
     assert isinstance(law, ClosedLaw)
     saturated = 0
     for t, q, v in states:
@@ -101,7 +101,7 @@ def test_drive_switching_keeps_the_validated_effort() -> None:
     sc = scenarios(mech)["crossing"]
     ctrl = ComputedTorque(mech, sc.reference, sc.gains, switching=DriveSwitching(0.2), limits=0.5)
     res = run(mech, dataclasses.replace(sc, duration=0.02))
-    law = ctrl._hot_path(mech)
+    law = ctrl.hot_path_law(mech)
     got = law.samples(res.t, res.q, res.v)
     for i, (t, q, v) in enumerate(zip(res.t, res.q, res.v)):
         eff = ctrl.effort(float(t), q, v)

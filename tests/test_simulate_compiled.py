@@ -76,7 +76,7 @@ def test_compiled_rhs_equals_the_python_hot_path(name: str, plant_args: dict, la
     )
     kernel = build_kernel(plant, ctrl)
     assert kernel is not None and kernel.compiled
-    py_law, py_plant = ctrl._hot_path(plant), SerialPlant(plant)
+    py_law, py_plant = ctrl.hot_path_law(plant), SerialPlant(plant)
     data, clipped = plant.model.createData(), 0
     for q, v, t in _states(plant, 7):
         y, ref = np.concatenate([q, v]), py_law.reference(t)

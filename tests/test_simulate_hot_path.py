@@ -136,7 +136,7 @@ def test_law_matches_the_public_effort_and_rnea(name: str) -> None:
     model, data = mech.model, mech.model.createData()
     clipped = 0
     for k, ctrl in enumerate(_controllers(mech)):
-        law = ctrl._hot_path(mech)
+        law = ctrl.hot_path_law(mech)
         assert isinstance(law, SerialLaw)
         for i, (q, v, _) in enumerate(_states(mech, 10 + k)):
             t = 0.37 * i
@@ -155,7 +155,7 @@ def test_law_matches_the_public_effort_and_rnea(name: str) -> None:
 
 def test_samples_match_the_public_law_per_sample(bevel: rcm_pin.Mechanism) -> None:
     for ctrl in _controllers(bevel):
-        law = ctrl._hot_path(bevel)
+        law = ctrl.hot_path_law(bevel)
         states = list(_states(bevel, 20, 8))
         t = np.linspace(0.0, 1.0, len(states))
         q = np.array([s[0] for s in states])

@@ -135,7 +135,7 @@ class ClosedLaw:
         kin.run(q, v)
         c, jc, gam = kin.closure()
         x, xd, jx, drift = kin.task(v)
-        e = self.ctrl._task_error(x_t, x)
+        e = self.ctrl.task_error(x_t, x)
         a_star = self.ff * a_t + self.kpos * e + self.kc * (v_t - xd)
         w, z = self.w, self.z
         rhs = np.concatenate([-gam - 2.0 * z * w * (jc @ v) - w * w * c, a_star - drift])

@@ -146,7 +146,7 @@ class ComputedTorque:
     switching: DriveSwitching | None = None
     _task: Output = field(init=False, repr=False)
     _kin: TaskKinematics | None = field(init=False, repr=False)
-    _posture: np.ndarray = field(init=False, repr=False)
+    posture: np.ndarray = field(init=False, repr=False)  #: where the other coordinates are held
 
     def __post_init__(self) -> None:
         if self.space not in SPACES:
@@ -164,7 +164,7 @@ class ComputedTorque:
             )
         object.__setattr__(self, "_task", task)
         object.__setattr__(self, "_kin", kin)
-        object.__setattr__(self, "_posture", mech.home)  # serial: the others held there
+        object.__setattr__(self, "posture", mech.home)  # serial: the others held there
 
     @property
     def task_output(self) -> Output:
@@ -181,7 +181,8 @@ class ComputedTorque:
         """Signed position gain: K_n, or −K_n with the printed sign."""
         return -self.gains.kn if self.printed_sign else self.gains.kn
 
-    def _task_error(self, x_t: np.ndarray, x: np.ndarray) -> np.ndarray:
+    def task_error(self, x_t: np.ndarray, x: np.ndarray) -> np.ndarray:
+        """x_t − x in the task coordinates [m, rad], angles wrapped where they cross ±π."""
         e = x_t - x
         ang = self._task.angular
         if ang.any():  # wrap an angle error only where it crosses ±π
@@ -195,15 +196,15 @@ class ComputedTorque:
         if self._kin is None:  # closed mechanism
             xd, _, _ = cd.output_drift(self.model, q, v, self._task)
             x = self._task.value(self.model.data.oMf[self._task.frame_id])
-            a_star = ff * a_t + self.kpos * self._task_error(x_t, x) + g.kc * (v_t - xd)
+            a_star = ff * a_t + self.kpos * self.task_error(x_t, x) + g.kc * (v_t - xd)
             return cd.acceleration_for_output(self.model, q, v, a_star, self.baumgarte, self._task)
         kin, cols = self._kin, self._kin.joints
-        qdd = -g.kn * (q - self._posture) - g.kc * v  # hold the others at the posture
+        qdd = -g.kn * (q - self.posture) - g.kc * v  # hold the others at the posture
         if self.space == "task":
             J = kin.jacobian(q)
             a_star = (
                 ff * a_t
-                + self.kpos * self._task_error(x_t, kin.position(q))
+                + self.kpos * self.task_error(x_t, kin.position(q))
                 + g.kc * (v_t - J @ v[cols])
             )
             rhs = a_star - kin.bias(q, v)
@@ -231,7 +232,7 @@ class ComputedTorque:
         qdd = np.linalg.solve(J, xdd - kin.bias(q, qd))
         return q[kin.joints], qd[kin.joints], qdd
 
-    def _hot_path(self, plant: Mechanism) -> SerialLaw | ClosedLaw:
+    def hot_path_law(self, plant: Mechanism) -> SerialLaw | ClosedLaw:
         """The law prepared once for :func:`~rcm_pin.control.simulate.simulate`'s
         right-hand side (no validation, no per-call objects; :mod:`.hot_path`)."""
         from rcm_pin.control.closed_hot_path import ClosedLaw

@@ -159,7 +159,7 @@ class SerialLaw:
         idx = mech.v_index
         self.idx = None if np.array_equal(idx, np.arange(mech.model.nv)) else idx
         self.kn, self.kc, self.kpos, self.ff = g.kn, g.kc, ctrl.kpos, float(ctrl.feedforward)
-        self.posture = ctrl._posture
+        self.posture = ctrl.posture
         self.task_space = ctrl.space == "task"
         self.angular = bool(ctrl.task_output.angular.any())
         self.square = ctrl.task_output.dim == self.ncols
@@ -179,7 +179,7 @@ class SerialLaw:
             qdd[cols] = self.ff * qrdd + self.kpos * (qr - q[cols]) + self.kc * (qrd - v[cols])
             return qdd, None, None
         J, x = kin.jacobian(q), kin.position(q)
-        e = self.ctrl._task_error(x_t, x) if self.angular else x_t - x
+        e = self.ctrl.task_error(x_t, x) if self.angular else x_t - x
         ff = a_t if self.ff == 1.0 else self.ff * a_t  # 1.0 * a == a exactly
         a_star = ff + self.kpos * e + self.kc * (v_t - J @ v[cols])
         rhs = a_star - kin.bias(q, v)
@@ -223,7 +223,7 @@ class SerialLaw:
             if kin.batch is None:
                 h = np.array([kin.bias(qi, vi) for qi, vi in zip(q, v)]).reshape(N, dim)
             e = (
-                np.array([ctrl._task_error(a, b) for a, b in zip(x_t, x)]).reshape(N, dim)
+                np.array([ctrl.task_error(a, b) for a, b in zip(x_t, x)]).reshape(N, dim)
                 if self.angular
                 else x_t - x
             )

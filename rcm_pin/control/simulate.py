@@ -139,7 +139,7 @@ def simulate(
     bounds = [] if allow_outside_limits else _limit_events(plant, q0)
     v0 = np.zeros(nv) if v0 is None else plant.check_v(v0, "v0")
     accel = _plant_accel(plant, baumgarte)
-    law = None if controller is None else controller._hot_path(plant)
+    law = None if controller is None else controller.hot_path_law(plant)
     bar = None
     if progress:
         from tqdm import tqdm
