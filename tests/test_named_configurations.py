@@ -71,15 +71,14 @@ def test_no_magic_configuration_keys_in_generic_code(key):
     assert hits == []
 
 
+def grep(*pattern: str) -> str:
+    """``grep -rn`` over the package sources (empty: no hit)."""
+    argv = ["grep", "-rn", "--include=*.py", *pattern, "rcm_pin", "ocp"]
+    return subprocess.run(argv, cwd=ROOT, capture_output=True, text=True, check=False).stdout
+
+
 def test_require_loops_is_public():
-    out = subprocess.run(
-        ["grep", "-rn", "_require_loops", "rcm_pin", "ocp"],
-        cwd=ROOT,
-        capture_output=True,
-        text=True,
-        check=False,
-    ).stdout
-    assert out == ""
+    assert grep("_require_loops") == ""
     with pytest.raises(rcm_pin.errors.InvalidInputError):
         rcm_pin.load("rcm_bevel").require_loops()
 
@@ -87,18 +86,4 @@ def test_require_loops_is_public():
 def test_no_private_controller_state_is_read_across_modules():
     """The hot paths and simulate use the controller's public posture, task_error and
     hot_path_law (issue 24, item 4), never its private names."""
-    out = subprocess.run(
-        [
-            "grep",
-            "-rnE",
-            "--include=*.py",
-            r"\._posture|\._task_error|_hot_path\(\)",
-            "rcm_pin",
-            "ocp",
-        ],
-        cwd=ROOT,
-        capture_output=True,
-        text=True,
-        check=False,
-    ).stdout
-    assert out == ""
+    assert grep("-E", r"\._posture|\._task_error|_hot_path\(\)") == ""
