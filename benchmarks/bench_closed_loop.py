@@ -136,7 +136,7 @@ def sweep_cases(
         return [(qd[k], q_true[k - 1]) for k in range(1, n)], poses[1:]
     loops = mech.loops
     assert loops is not None
-    home = mech.family.configurations(mech)["home"]
+    home = mech.home
     s = np.linspace(0.0, 2.0 * np.pi, n, endpoint=False)[:, None]
     phase = np.arange(loops.dof)[None, :]
     drives = home[loops.drive_q] + amplitude * np.sin(s * (1 + phase) + phase)
@@ -221,7 +221,7 @@ def evaluation_us(kernel: ClosureNewtonKernel, case: tuple, calls: int = 5000) -
 def bench_call_overhead(mech: rcm_pin.Mechanism, calls: int = 20000) -> dict[str, object]:
     """One evaluation of the compiled kernel function, three ways of calling it (part 2)."""
     fun = provider.newton_function(mech)
-    home = mech.family.configurations(mech)["home"]
+    home = mech.home
     args = [home, home[mech.loops.drive_q], np.array([0.5])]  # type: ignore[union-attr]
     buf = BufferedFunction(fun)
     for dst, src in zip(buf.inputs, args):
@@ -274,7 +274,7 @@ def bench_all_modes(name: str, n: int, repeat: int, seed: int) -> dict[str, obje
     compiled_kernel(mech)
     loops = mech.loops
     assert loops is not None
-    home = mech.family.configurations(mech)["home"]
+    home = mech.home
     rng = np.random.default_rng(seed)
     drives = home[loops.drive_q] + rng.uniform(-0.05, 0.05, (n, loops.dof))
     full = "rcm_pin.forward(all_modes=True) (kernel)"

@@ -68,7 +68,7 @@ def main() -> None:
             assert p is not None and p.time_ratio is not None
             g = p.linkage
             m = rcm_pin.load("four_bar", frame=g.l0, crank=g.l1, coupler=g.l2, rocker=g.l3)
-            t = crank_turn(m, m.family.configurations(m)["home"], args.samples)
+            t = crank_turn(m, m.home, args.samples)
             towards, away = t.psi_max - math.pi / 2, math.pi / 2 - t.psi_min
             swing = (towards, away) if r.layout == LAYOUTS[0] else (away, towards)
             err = max(abs(swing[0] - up), abs(swing[1] - down))

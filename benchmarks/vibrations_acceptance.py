@@ -33,7 +33,7 @@ def main() -> None:
     for name, c0 in BASE.items():
         t0 = time.perf_counter()
         mech = rcm_pin.load(name)
-        home = mech.family.configurations(mech)["home"]
+        home = mech.home
         drives = mech.loops.drive_q
         scale = np.where(mech.revolute[drives], 0.3, 0.3 * mech.loops.length_scale)
         worst_route = worst_sqrt = 0.0

@@ -136,7 +136,7 @@ def test_arms_fk_ik(capsys, name):
     import rcm_pin
 
     mech = rcm_pin.load(name)
-    q = mech.family.configurations(mech)["home"] + 0.1
+    q = mech.home + 0.1
     code, out, _ = run(capsys, "fk", name, "--q", ",".join(map(str, q)), "--json")
     pose = np.array(json.loads(out)["solutions"][0]["pose"])
     text = ";".join(",".join(repr(float(v)) for v in row) for row in pose[:3])

@@ -60,7 +60,7 @@ def test_every_analysis_runs_on_arms_and_loops(capsys, tmp_path, name):
     import rcm_pin
 
     mech = rcm_pin.load(name)
-    home = mech.family.configurations(mech)["home"]
+    home = mech.home
     inputs = home if mech.loops is None else home[mech.loops.drive_q]
     q = "--q=" + ",".join(repr(float(v)) for v in inputs)
     code, out = _json(capsys, ["singularities", name, q])

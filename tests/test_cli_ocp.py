@@ -33,7 +33,7 @@ def test_ocp_ik_works_for_every_catalogue_entry(capsys, name):
     """Serial: --xyz of the tool centre at the home configuration (position mode); closed:
     --pose with the output coordinates there. The answer is checked by Pinocchio."""
     mech = rcm_pin.load(name)
-    home = mech.family.configurations(mech)["home"]
+    home = mech.home
     if mech.loops is None:
         xyz = rcm_pin.tool_pose(mech, home)[:3, 3]
         argv = ["--xyz=" + ",".join(f"{v:.12g}" for v in xyz)]  # "=": values may be < 0

@@ -48,7 +48,7 @@ def test_yaml_sidecar_without_the_urdf_element(tmp_path, m3):
     (tmp_path / "tree.yaml").write_text((urdf_dir() / "planar_3rrr.yaml").read_text())
     m = rcm_pin.load(tmp_path / "tree.urdf")
     assert m.loops.drives == ("A1", "A2", "A3") and m.family.name == "planar_3rrr"
-    q = m3.family.configurations(m3)["home"]
+    q = m3.home
     np.testing.assert_allclose(m.closure_residual(q), m3.closure_residual(q), atol=1e-15)
 
 
@@ -83,7 +83,7 @@ def test_planar_point_closure_is_rank_deficient_in_3d(m3):
 @pytest.mark.parametrize("name", CLOSED)
 def test_frame_jacobian_route_equals_pinocchio_constraint_jacobian_and_fd(name):
     mech = rcm_pin.load(name)
-    q = mech.family.configurations(mech)["home"]
+    q = mech.home
     e1, j1 = mech.residual_and_jacobian(q)
     j2 = pin_constraint_jacobian(mech.model, mech.loops, q)
     assert np.max(np.abs(j1 - j2)) < 1e-14 and np.max(np.abs(e1)) < 1e-12
@@ -130,7 +130,7 @@ def test_redundant_rows_are_resolved_by_rank(m3):
     full = replace(spec, closures=tuple(replace(c, rows=()) for c in spec.closures))
     loops = build_loops(m3.model, full)
     assert loops.n_rows == 6
-    home = m3.family.configurations(m3)["home"]
+    home = m3.home
     guess = home.copy()
     guess[loops.passive_q] += 0.05
     q, it, res = solve_passive(m3.model, m3.model.createData(), loops, home[loops.drive_q], guess)

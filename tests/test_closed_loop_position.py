@@ -99,7 +99,7 @@ def test_batched_newton_is_the_pinocchio_newton(name):
     random drives and starts both close the loops at the same configuration (1e-9)."""
     mech = rcm_pin.load(name)
     loops, tree = mech.loops, PlanarTree.from_mechanism(mech)
-    home = mech.family.configurations(mech)["home"]
+    home = mech.home
     rng = np.random.default_rng(2412)
     drives = home[loops.drive_q] + rng.uniform(-0.2, 0.2, (200, loops.dof))
     starts = home + rng.normal(0.0, 0.05, (200, mech.nq))

@@ -54,7 +54,7 @@ def test_coal_distance_of_one_pair_equals_a_hand_computation(eye):
     along X is lid_arm − w/4 − 2w [m] (w = 6 mm)."""
     gm, pairs = geometry_model(eye)
     gd = pin.GeometryData(gm)
-    q = eye.family.configurations(eye)["straight"]
+    q = eye.configurations["straight"]
     pin.computeDistances(eye.model, eye.data, gm, gd, q)
     names = [(gm.geometryObjects[i].name, gm.geometryObjects[k].name) for i, k in pairs]
     d = gd.distanceResults[names.index(("lid_arm_0", "camera_2_0"))].min_distance

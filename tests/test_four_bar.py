@@ -120,7 +120,7 @@ def test_forward_both_assembly_modes_equal_the_closed_form(m4, g4):
             assert np.max(np.abs(b - b_coupler)) < EXACT and abs(np.hypot(*(b - a)) - g4.l2) < EXACT
             # documented order: B left of the line A → O2 first, then its mirror image
             assert (cross(o2 - a, b - a) > 0) == (i == 0)
-    home, first = m4.family.configurations(m4)["home"], rcm_pin.forward(m4, [0.0]).solutions[0]
+    home, first = m4.home, rcm_pin.forward(m4, [0.0]).solutions[0]
     assert home[0] == 0.0 and home[2] > 0 and np.max(np.abs(wrap_angle(first.q - home))) < EXACT
 
 
@@ -336,7 +336,7 @@ def test_kkt_dynamics_vs_pinocchio_and_inverse_dynamics(m4, g4):
 
 def test_free_motion_conserves_energy(m4):
     """No torque, gravity ⊥ the plane: kinetic energy is constant (0.5 s, DOP853)."""
-    q = m4.family.configurations(m4)["home"]
+    q = m4.home
     v = passive_velocity(m4, q, np.array([5.0]))
     data = m4.model.createData()
 

@@ -42,7 +42,7 @@ def load(g: FourBar):
 
 def turn(g: FourBar, n: int = 121):
     m = load(g)
-    return m, crank_turn(m, m.family.configurations(m)["home"], n)
+    return m, crank_turn(m, m.home, n)
 
 
 def extremes_from_points(up, down, l2, l3, frame, up_side):

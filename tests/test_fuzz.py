@@ -90,7 +90,7 @@ def mech_inputs(mech: rcm_pin.Mechanism) -> st.SearchStrategy[Any]:
     if mech.loops is None:
         lo, hi = mech.lower, mech.upper
     else:
-        home = mech.family.configurations(mech)["home"][mech.loops.drive_q]
+        home = mech.home[mech.loops.drive_q]
         lo, hi = home - 0.3, home + 0.3
     return st.one_of(
         in_box(lo, hi),

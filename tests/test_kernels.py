@@ -52,7 +52,7 @@ def _both(mech, drives, q0, **options):
 
 def _seeded_cases(mech, rng, n, spread, drive_spread=0.2):
     loops = mech.loops
-    home = mech.family.configurations(mech)["home"]
+    home = mech.home
     drives = home[loops.drive_q] + rng.uniform(-drive_spread, drive_spread, (n, loops.dof))
     return [(d, home + rng.normal(0.0, spread, mech.nq)) for d in drives]
 
@@ -122,7 +122,7 @@ def test_vm_and_compiled_functions_give_the_same_bits(m3):
 def test_a_structure_compiles_after_its_calls(m5):
     fresh = SharedFunction(provider.newton_function(m5, vm=True), kernels.warm(m5).shared.key, 3)
     kernel = ClosureNewtonKernel(fresh, CHUNK)
-    home = m5.family.configurations(m5)["home"]
+    home = m5.home
     for calls in range(1, 5):
         kernel(home, home[m5.loops.drive_q], max_iter=60, max_step=0.5)
         assert fresh.compiled == (calls >= 3)
@@ -138,7 +138,7 @@ def test_environment_variable_disables_kernels():
 def test_no_convergence_gives_the_same_error(m5):
     """Drives that admit no assembly, and an iteration cap below what the start needs."""
     kernels.warm(m5)
-    home = m5.family.configurations(m5)["home"]
+    home = m5.home
     fast, slow = _both(m5, np.array([0.0, np.pi]), home)  # cranks apart: the loop cannot close
     assert type(fast) is type(slow) is SolverError and str(fast) == str(slow)
     assert "did not converge in 60 iterations" in str(slow)
@@ -165,7 +165,7 @@ def test_no_convergence_gives_the_same_error(m5):
 def test_kernel_declines_where_numpy_leaves_its_plain_solve(m3):
     """A NaN (or >= 1e3) step makes numpy switch to least squares: the kernel returns None."""
     kernel = kernels.warm(m3)
-    home = m3.family.configurations(m3)["home"]
+    home = m3.home
     drives = home[m3.loops.drive_q]
     assert kernel(np.full(m3.nq, np.nan), drives, max_iter=60, max_step=0.5) is None
     out = kernel(home, drives, max_iter=60, max_step=0.5)
@@ -188,7 +188,7 @@ def test_a_failing_provider_warns_and_numpy_serves(monkeypatch):
     with pytest.warns(kernels.KernelWarning, match="no kernel today"):
         kernel = kernels.warm(mech)
     assert kernel is not None  # the second provider's (always declining) kernel
-    home = mech.family.configurations(mech)["home"]
+    home = mech.home
     drives = home[mech.loops.drive_q] + 0.05
     fast, slow = _both(mech, drives, home)
     np.testing.assert_array_equal(fast[0], slow[0])  # both from the numpy route
@@ -226,7 +226,7 @@ def test_the_vm_function_is_cached_on_disk(m5, tmp_path, monkeypatch):
     built = vm_function(m5, key)
     (saved,) = tmp_path.glob("closure_newton_*.casadi")
     loaded = vm_function(m5, key)  # from the file
-    home = m5.family.configurations(m5)["home"]
+    home = m5.home
     args = [home + 0.01, home[m5.loops.drive_q], 0.5]
     for a, b in zip(built.call(args), loaded.call(args), strict=True):
         np.testing.assert_array_equal(np.asarray(a), np.asarray(b))
@@ -241,7 +241,7 @@ def test_a_geometry_gets_its_own_function(m5):
     assert mine.shared is not theirs.shared and mine.shared.key != theirs.shared.key
     assert same_residual(other, theirs.shared.function)
     assert not same_residual(other, mine.shared.function)
-    home = m5.family.configurations(m5)["home"]
+    home = m5.home
     drives = home[m5.loops.drive_q] + 0.02
     fast, slow = _both(other, drives, home)
     np.testing.assert_allclose(fast[0], slow[0], rtol=0, atol=AGREE)
@@ -274,7 +274,7 @@ def test_a_failed_compilation_keeps_the_vm(m5, monkeypatch):
     fresh = SharedFunction(provider.newton_function(m5, vm=True), "k", 1)
     vm = fresh.function
     kernel = ClosureNewtonKernel(fresh, CHUNK)
-    home = m5.family.configurations(m5)["home"]
+    home = m5.home
     with pytest.warns(kernels.KernelWarning, match="cannot load the library"):
         out = kernel(home, home[m5.loops.drive_q], max_iter=60, max_step=0.5)
     assert out is not None and fresh.function is vm and not fresh.compiled

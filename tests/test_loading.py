@@ -37,7 +37,7 @@ def test_committed_closed_urdf_by_path_equals_the_catalogue(name):
     by_path = rcm_pin.load(urdf_dir() / f"{name}.urdf")
     assert by_path.family is by_name.family and by_path.loops.spec == by_name.loops.spec
     assert by_path.output.coords == by_name.output.coords
-    home = by_name.family.configurations(by_name)["home"]
+    home = by_name.home
     drives = home[by_name.loops.drive_q]
     rng = np.random.default_rng(1)
     for delta in rng.uniform(-0.05, 0.05, (20, drives.size)):
@@ -188,7 +188,7 @@ def test_one_mechanism_from_four_threads_gives_the_one_thread_results():
 
 def test_closed_mechanism_from_four_threads():
     mech = rcm_pin.load("planar_3rrr")
-    home = mech.family.configurations(mech)["home"]
+    home = mech.home
     drives = home[mech.loops.drive_q] + np.linspace(-0.05, 0.05, 40)[:, None]
 
     def work():

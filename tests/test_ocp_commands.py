@@ -63,7 +63,7 @@ def test_ik_command_closed_mechanism_output():
 @pytest.mark.parametrize("name", ["panda", "ur5"])
 def test_ik_command_catalogue_arms(name):
     mech = rcm_pin.load(name)
-    home = mech.family.configurations(mech)["home"]
+    home = mech.home
     pose = rcm_pin.tool_pose(mech, home)
     out = ik_command(name, pose[:3, 3] + [0.02, -0.01, 0.0])
     assert out["success"] and out["position_error"] < 1e-9 and len(out["q"]) == mech.nq

@@ -26,7 +26,7 @@ SOLVER = 1e-9
 def setup(request):
     """The arm at a fixed, reachable trocar 0.15 m below its home tool frame."""
     mech = load(request.param)
-    home = mech.family.configurations(mech)["home"]
+    home = mech.home
     data = mech.model.createData()
     pin.framesForwardKinematics(mech.model, data, mech.to_pin(home))
     M = data.oMf[mech.tool_frame_id]

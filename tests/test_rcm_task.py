@@ -31,7 +31,7 @@ ARMS = {"panda": "panda_hand_tcp", "ur5": "tool0"}
 def arm(request):
     """(mechanism, chain model, a random configuration, a trocar 5 mm off the shaft)."""
     mech = rcm_pin.load(request.param)
-    home = mech.family.configurations(mech)["home"]
+    home = mech.home
     chain = chain_model(mech, ARMS[request.param], "z", 0.3, (0.0, 0.0, 0.0), home)
     rng = np.random.default_rng(7)
     m = chain.model

@@ -69,7 +69,7 @@ def axes(m, q):
 
 
 def test_home_is_the_orthogonal_agile_eye(ms):
-    q = ms.family.configurations(ms)["home"]
+    q = ms.home
     assert np.all(q == 0.0) and np.linalg.norm(ms.closure_residual(q)) <= EXACT
     assert rot_err(ms, ms.output_value(q), np.eye(3)) <= EXACT
     e = np.eye(3)
@@ -193,7 +193,7 @@ def test_continuation_stays_on_one_assembly_mode(ms):
     """A drive path from home: every step closed to 1e-12, one closed-form assembly mode."""
     g = s3.geometry(ms)
     path = np.linspace(0.0, 1.0, 41)[:, None] * np.array([0.9, -0.6, 1.2])
-    qs = direct_position_path(ms, path, ms.family.configurations(ms)["home"])
+    qs = direct_position_path(ms, path, ms.home)
     rs = [ms.output_value(q).reshape(3, 3) for q in qs]
     for q, phi, R in zip(qs, path, rs, strict=True):
         assert np.linalg.norm(ms.closure_residual(q)) <= EXACT

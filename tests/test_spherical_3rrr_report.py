@@ -25,7 +25,7 @@ def mech():
 def test_link_angles_from_pinocchio_axes_are_the_xacro_arguments(t1, t2):
     args = {f"theta_{i}{k}": str(t) for i in (1, 2, 3) for k, t in ((1, t1), (2, t2))}
     m = rcm_pin.load("spherical_3rrr", **args)
-    angles = rep._axis_angles(m, m.family.configurations(m)["home"])
+    angles = rep._axis_angles(m, m.home)
     np.testing.assert_allclose(angles, [t1] * 3 + [t2] * 3, atol=1e-9)  # arccos near 90°: 1e-9
 
 

@@ -107,7 +107,7 @@ def test_tree_dynamics_from_four_threads(name):
 
 
 def _closed_configurations(mech: rcm_pin.Mechanism, n: int) -> list[np.ndarray]:
-    home = mech.family.configurations(mech)["home"]
+    home = mech.home
     drives = home[mech.loops.drive_q] + np.linspace(-0.05, 0.05, n)[:, None]
     return [rcm_pin.forward(mech, d, q_guess=home).solutions[0].q for d in drives]
 

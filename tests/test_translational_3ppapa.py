@@ -78,7 +78,7 @@ def test_both_models_load_with_their_closures(mm, ml):
     assert (ml.nq, ml.loops.n_rows, ml.loops.dof) == (21, 30, 3)  # 18 passive, 30 rows
     for m in (mm, ml):
         assert m.loops.drives == ("P1", "P2", "P3") and m.family is tp.FAMILY
-        home = m.family.configurations(m)["home"]
+        home = m.home
         assert closure(m, home) <= EXACT and np.max(np.abs(m.output_value(home))) <= EXACT
     assert mm.coupling.has_mimic and not ml.coupling.has_mimic
 
@@ -291,7 +291,7 @@ def test_continuation_along_the_reference_both_models(mm, ml, g):
     path = np.array([tp.inverse_position(g, p)[0][1] for p in ref])
     outs = []
     for m in (mm, ml):
-        qs = direct_position_path(m, path, m.family.configurations(m)["home"])
+        qs = direct_position_path(m, path, m.home)
         assert max(closure(m, q) for q in qs) <= EXACT
         outs.append(np.array([m.output_value(q) for q in qs]))
         assert np.max(np.abs(outs[-1] - ref)) < 1e-10

@@ -91,7 +91,7 @@ def test_cramer_denominator_is_det_a(g):
 
 
 def test_linear_theory_is_the_derivative_of_the_nonlinear_error(mm, g):
-    q = mm.family.configurations(mm)["regular"]
+    q = mm.configurations["regular"]
     rep = mm.family.accuracy_report(mm, q)
     np.testing.assert_allclose(rep["point"], tp.REGULAR, atol=EXACT)
     drives, p = rep["drives"], rep["point"]

@@ -39,7 +39,7 @@ def mech(request):
 def random_poses(mech, n, seed):
     """n closed configurations near home: drives moved by up to ±0.05 (rad or m·L)."""
     rng = np.random.default_rng(seed)
-    home = mech.family.configurations(mech)["home"]
+    home = mech.home
     drives = mech.loops.drive_q
     scale = np.where(mech.revolute[drives], 0.05, 0.05 * mech.loops.length_scale)
     out = []

@@ -79,7 +79,7 @@ def test_viewer_places_every_geometry_node(rcm_mech):
 
 def test_default_configuration_is_home(rcm_mech):
     viewer = Viewer(rcm_mech)
-    home = rcm_mech.family.configurations(rcm_mech)["home"]
+    home = rcm_mech.home
     assert np.array_equal(viewer.q, home) and viewer.assembly == "home"
     assert np.array_equal(viewer.inputs, viewer.q) and viewer.closure_gap() == 0.0
     plain = Viewer(rcm_pin.load(DATA / "mimic_tree.urdf", tool_frame="tool_link"))

@@ -29,7 +29,7 @@ def arm(request):
 def test_scene_has_the_meshes_at_home(arm):
     mech = arm.mech
     assert arm.viz.visual_model.ngeoms >= 7  # one mesh per link at least
-    assert np.array_equal(arm.q, mech.family.configurations(mech)["home"])
+    assert np.array_equal(arm.q, mech.home)
     assert arm.assembly == "home" and arm.closure_gap() == 0.0 and mech.rcm is None
     tree = arm.vis.window.tree["meshcat"]
     assert tree["overlays"]["output"].object is not None  # the tool point marker

@@ -38,7 +38,7 @@ def test_display_closes_the_loops(mech):
     drives = np.array(DRIVES[mech.name])
     with Viewer(mech) as viewer:
         assert viewer.assembly == "home" and viewer.closure_gap() < 1e-12  # home is closed
-        home = mech.family.configurations(mech)["home"]
+        home = mech.home
         assert np.array_equal(viewer.q, home)
         for assembly in range(2):
             q = viewer.display_inputs(drives, assembly)

@@ -16,7 +16,7 @@ from rcm_pin.viz import snapshot as snap
 from rcm_pin.viz.drawing import WHAT, describe, fallback_png
 from rcm_pin.viz.shading import cluster
 from rcm_pin.viz.triangles import box, shape_triangles
-from rcm_pin.viz.viewer import Viewer, default_configuration
+from rcm_pin.viz.viewer import Viewer
 
 SIZE = (640, 480)
 
@@ -107,7 +107,7 @@ def test_markers_where_the_camera_projects_them(scene):
 def _moved(mech, step: float) -> tuple[np.ndarray, np.ndarray]:
     """Two configurations of mech (closed ones for closed mechanisms): q1 moves the first
     two joints (serial) or the first drive (closed) of the viewer's q0 by ``step`` [rad]."""
-    q0 = default_configuration(mech)
+    q0 = mech.home  # the viewer's q0
     if mech.loops is None:
         move = np.where(np.arange(mech.nq) < 2, step, 0.0)
         return q0, np.clip(q0 + move, mech.lower, mech.upper)

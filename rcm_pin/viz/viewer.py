@@ -41,11 +41,6 @@ from rcm_pin.viz.camera import box_corners, frame_points, plane_basis, project
 PLANAR_VIEW = np.array([0.2, -0.7, 1.0])
 
 
-def default_configuration(mech: Mechanism) -> np.ndarray:
-    """``mech.home`` (the one rule of :mod:`rcm_pin.model.configurations`)."""
-    return mech.home
-
-
 def view_direction(mech: Mechanism) -> np.ndarray | None:
     """Camera direction from above the plane of a planar mechanism (None: not planar)."""
     n = plane_normal(mech.model)
@@ -83,7 +78,7 @@ class Viewer(ov.OverlaysMixin, MeshcatScene):
         self._data = mech.model.createData()
         self._points: dict[str, int] = {}
         self._span: tuple[float, float] | None = None
-        self.q, self.assembly = default_configuration(mech), "home"
+        self.q, self.assembly = mech.home, "home"  # the one rule: rcm_pin.model.configurations
         if markers:
             self.show_markers()
             if mech.rcm is not None:

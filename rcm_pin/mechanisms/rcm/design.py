@@ -117,7 +117,7 @@ def rcm_drift(mech: Mechanism) -> float:
     """Worst RMS |c| [m] over the named configurations (module docstring)."""
     sig = sigmas()
     worst = 0.0
-    for q in mech.family.configurations(mech).values():
+    for q in mech.configurations.values():
         _, sens = drift_sensitivities(mech, q)
         worst = max(worst, float(np.sqrt(np.sum(sig**2 * np.sum(sens**2, axis=1)))))
     return worst
