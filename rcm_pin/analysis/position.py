@@ -142,9 +142,8 @@ def inverse(
                 raise SolverError(f"{mech.name}: inverse polish residual {res:.2e} m for {b.label}")
             value_q = output.value(_placement(mech, q))
             sols.append(PositionSolution(q, value_q, b.label, res, it, within_limits(mech, q)))
-        if (
-            not found.closed_form
-        ):  # closed-form working modes stay distinct by label, even where they meet
+        # closed-form working modes stay distinct by label, even where they meet
+        if not found.closed_form:
             sols = cp.dedupe(mech, sols)
     if not sols:
         raise UnreachablePoseError(

@@ -21,14 +21,14 @@ nonLinearEffects / rnea called directly and against the public law.
 from __future__ import annotations
 
 from collections.abc import Callable
-from functools import cache
-from typing import TYPE_CHECKING, Any, NamedTuple
+from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 import pinocchio as pin
 
 from rcm_pin.control.references import CartesianTrajectory, Reference
 from rcm_pin.dynamics.tree import solve_mass_upper
+from rcm_pin.lazy import lapack
 from rcm_pin.model.mechanism import Mechanism
 
 if TYPE_CHECKING:
@@ -127,18 +127,10 @@ def reference_samples(ref: Reference, t: np.ndarray) -> tuple[np.ndarray, np.nda
     return x, xd, xdd
 
 
-@cache
-def _dgesv() -> Callable[..., Any]:
-    """LAPACK ``dgesv``, imported on first use and kept (``scipy.linalg`` is slow to import)."""
-    from scipy.linalg.lapack import dgesv
-
-    return dgesv
-
-
 def solve(A: np.ndarray, rhs: np.ndarray) -> np.ndarray:
     """A x = rhs by one LAPACK ``dgesv`` call (the routine of ``np.linalg.solve``, without
     its per-call overhead); a singular A goes to ``np.linalg.solve``, which raises."""
-    x, info = _dgesv()(A, rhs)[2:]
+    x, info = lapack("dgesv")(A, rhs)[2:]
     return x if info == 0 else np.linalg.solve(A, rhs)
 
 

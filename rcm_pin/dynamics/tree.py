@@ -23,29 +23,17 @@ no-mimic projection is used); ``aba``,
 
 from __future__ import annotations
 
-from collections.abc import Callable
-from functools import cache
-from typing import Any
-
 import numpy as np
 import pinocchio as pin
 
 from rcm_pin.errors import InvalidInputError, SingularConfigurationError
+from rcm_pin.lazy import lapack
 from rcm_pin.model.mechanism import Mechanism
 
 #: ``pin.crba`` convention: the default (LOCAL) accumulates into its buffers on repeated
 #: calls with the same Data on mimic models in Pinocchio 4.1 (only the first call on a
 #: fresh Data is right); the WORLD variant is right on every call.
 _WORLD = pin.Convention.WORLD
-
-
-@cache
-def _dposv() -> Callable[..., Any]:
-    """LAPACK ``dposv``, imported on first use and kept (``scipy.linalg`` takes ~0.1 s to
-    import, so ``import rcm_pin`` does not pay for it; the cached call costs ~50 ns)."""
-    from scipy.linalg.lapack import dposv
-
-    return dposv
 
 
 def mass_matrix_pin(model: pin.Model, data: pin.Data, q_pin: np.ndarray) -> np.ndarray:
@@ -162,7 +150,7 @@ def solve_mass(M: np.ndarray, rhs: np.ndarray) -> np.ndarray:
     Raises:
         SingularConfigurationError: M is not positive definite.
     """
-    x, info = _dposv()(M, rhs, lower=1)[1:]
+    x, info = lapack("dposv")(M, rhs, lower=1)[1:]
     if info != 0:
         raise SingularConfigurationError(
             f"mass matrix is not positive definite (eigenvalues {np.linalg.eigvalsh(M)}); "
@@ -178,7 +166,7 @@ def solve_mass_upper(M: np.ndarray, rhs: np.ndarray) -> np.ndarray:
     Raises:
         SingularConfigurationError: M is not positive definite.
     """
-    x, info = _dposv()(M, rhs, lower=0)[1:]
+    x, info = lapack("dposv")(M, rhs, lower=0)[1:]
     if info != 0:
         return solve_mass(np.triu(M) + np.triu(M, 1).T, rhs)  # raises with the eigenvalues
     return np.asarray(x)
