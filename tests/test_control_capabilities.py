@@ -1,7 +1,11 @@
-"""The control layer's capabilities (rcm_pin.control.capabilities): resolvers, defaults."""
+"""The control layer's capabilities (rcm_pin.control.capabilities): resolvers, defaults,
+and a family's stop events on serial and closed plants alike."""
 
 from __future__ import annotations
 
+import dataclasses
+
+import numpy as np
 import pytest
 
 import rcm_pin
@@ -9,11 +13,12 @@ from rcm_pin.control.capabilities import (
     DefaultScenarios,
     FrameJacobianTask,
     ScenarioSource,
+    StopEvent,
     TaskModel,
     scenario_source,
     task_model,
 )
-from rcm_pin.control.scenario import scenarios
+from rcm_pin.control.scenario import run, scenarios
 from rcm_pin.control.task import task_kinematics, task_output
 from rcm_pin.model import family as model_family
 from rcm_pin.model.family import Family
@@ -43,6 +48,35 @@ def test_resolvers_give_the_family_implementation_or_the_default():
     assert scenario_source(panda).stop_events(panda) == ()
     events = scenario_source(rcm).stop_events(rcm)
     assert [e.description for e in events] == ["q3 < 1 mm", "cos q2 < 0.01"]
+
+
+class _Seen(DefaultScenarios):
+    """A stop event on the plant's first coordinate after a time: records the q it sees."""
+
+    def __init__(self) -> None:
+        self.sizes: set[int] = set()
+
+    def stop_events(self, mech: rcm_pin.Mechanism) -> tuple[StopEvent, ...]:
+        def g(t: float, q: np.ndarray, v: np.ndarray) -> float:
+            self.sizes.add(len(q))
+            return 0.02 - t
+
+        return (StopEvent("t > 0.02 s", g),)
+
+
+@pytest.mark.parametrize("name, scenario", [("planar_3rrr", "circle"), ("five_bar", "crossing")])
+def test_family_stop_events_end_closed_simulations(monkeypatch, name, scenario):
+    """A closed plant's run stops at its family's events, evaluated on the full q."""
+    mech = rcm_pin.load(name)
+    sc = dataclasses.replace(scenarios(mech)[scenario], duration=0.05)
+    seen = _Seen()
+    monkeypatch.setattr(mech.family, "capabilities", (seen, *mech.family.capabilities))
+    res = run(mech, sc)
+    assert res.status == "stopped: t > 0.02 s"
+    assert res.t[-1] == pytest.approx(0.02, abs=1e-9)
+    assert seen.sizes == {mech.nq}
+    monkeypatch.undo()
+    assert run(mech, sc).status == "completed"
 
 
 def test_paper000_ocp_refuses_a_task_without_the_closed_form():

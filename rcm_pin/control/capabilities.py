@@ -38,7 +38,8 @@ StopCondition = tuple[str, EventFunction]
 class StopEvent(NamedTuple):
     """A family's simulation stop condition: the run stops where ``g(t, q, v)`` crosses 0.
 
-    ``q``, ``v``: the plant's Mechanism coordinates and velocities.
+    ``q``, ``v``: the plant's Mechanism coordinates and velocities, serial or closed (a
+    closed plant's full q), so an event applies to every plant of the family.
     """
 
     description: str

@@ -17,9 +17,9 @@ runs a serial right-hand side as one compiled CasADi function instead
 Efforts come from a :class:`~rcm_pin.control.computed_torque.ComputedTorque` (whose model
 may differ from the plant) or are zero. The run stops at the family's stop conditions
 (:meth:`~rcm_pin.control.capabilities.ScenarioSource.stop_events`: leaving the regular
-region), when the task error exceeds ``stop_error`` and at any
-further ``events`` (terminal). Output: every ``samples`` uniform times, or the solver's
-own steps with ``samples=None``.
+region; serial and closed plants alike), when the task error exceeds ``stop_error`` and
+at any further ``events`` (terminal). Output: every ``samples`` uniform times, or the
+solver's own steps with ``samples=None``.
 
 Joint range: a run that starts or gets outside the plant's joint limits (``plant.lower``,
 ``plant.upper``, 1e-9 slack) stops with a :class:`~rcm_pin.errors.JointLimitError` (CLI
@@ -164,9 +164,7 @@ def simulate(
         q, v = y[:n], y[n:]
         return np.concatenate((v, accel(q, v, tau_of(t, q, v))))
 
-    stops: list[StopCondition] = (
-        list(scenario_source(plant).stop_events(plant)) if plant.loops is None else []
-    )
+    stops: list[StopCondition] = list(scenario_source(plant).stop_events(plant))
     if controller is not None and law is not None and stop_error is not None:
         task, limit, reference = controller.task_output, stop_error, law.reference
 
