@@ -28,6 +28,7 @@ from ocp.stagewise import Hessian
 from ocp.tracking import TrackingOCP, TrackingResult
 from rcm_pin.catalog import ENTRIES, get_entry
 from rcm_pin.control.references import get_trajectory
+from rcm_pin.control.task import task_kinematics
 from rcm_pin.errors import InvalidInputError
 from rcm_pin.mechanisms.rcm.point import joint_reference, point_ik
 
@@ -126,7 +127,7 @@ def build(
     mech = rcm_pin.load(name)
     require_serial(mech, "paper 000's tracking OCP")
     task = mech.output.subset(("x", "y", "z"))
-    if mech.family.task_kinematics(mech, task) is None:
+    if not task_kinematics(mech, task).closed_form:
         family = get_entry(MECHANISM).family  # the paper's mechanism
         valid = [e.name for e in ENTRIES if e.family is family]
         raise InvalidInputError(

@@ -6,12 +6,13 @@ import numpy as np
 import pytest
 
 import rcm_pin
+from rcm_pin.control.capabilities import pinocchio_task
 from rcm_pin.control.computed_torque import ComputedTorque, Gains, drive_limits
 from rcm_pin.control.linear import linear_error
 from rcm_pin.control.plots import plot_deviation, plot_efforts, plot_phase
 from rcm_pin.control.references import TRAJECTORIES, get_trajectory
 from rcm_pin.control.simulate import simulate
-from rcm_pin.control.task import pinocchio_task, task_kinematics, task_output
+from rcm_pin.control.task import task_kinematics, task_output
 from rcm_pin.dynamics.tree import with_gravity
 from rcm_pin.errors import InvalidInputError, JointLimitError, SingularConfigurationError
 from rcm_pin.mechanisms.rcm.point import (

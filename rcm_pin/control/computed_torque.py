@@ -33,11 +33,11 @@ from typing import TYPE_CHECKING, NamedTuple
 import numpy as np
 import pinocchio as pin
 
+from rcm_pin.control.capabilities import TaskKinematics
 from rcm_pin.control.references import Reference
 from rcm_pin.control.task import task_kinematics, task_output
 from rcm_pin.dynamics import constrained as cd
 from rcm_pin.errors import InvalidInputError
-from rcm_pin.model.family import TaskKinematics
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import Output
 from rcm_pin.rotations import wrap_angle

@@ -1,8 +1,8 @@
 """Simulation scenarios: a reference with the gains, start and solver settings it needs.
 
-A family lists its scenarios (:meth:`rcm_pin.model.family.Family.scenarios`: paper 000's
-tool-centre sinusoid, the 3-RRR's platform circle, the five-bar's path across its type-2
-curve); any mechanism also has :func:`home_circle`, a small circle of its task about the
+A family lists its scenarios (its :class:`~rcm_pin.control.capabilities.ScenarioSource`:
+paper 000's tool-centre sinusoid, the 3-RRR's platform circle, the five-bar's path across
+its type-2 curve); any mechanism also has :func:`home_circle`, a small circle of its task about the
 home configuration. :func:`run` starts at the reference's start (serial: the task's
 inverse; closed: the working mode ``mode`` of the inverse problem at x_T(0) + ``offset``,
 with ẋ_T(0)) and calls the one :func:`rcm_pin.control.simulate.simulate`.
@@ -15,6 +15,7 @@ from typing import Any
 
 import numpy as np
 
+from rcm_pin.control.capabilities import scenario_source
 from rcm_pin.control.computed_torque import ComputedTorque, DriveSwitching, Gains, drive_limits
 from rcm_pin.control.references import CartesianTrajectory, Reference
 from rcm_pin.control.result import SimulationResult
@@ -83,7 +84,7 @@ def _placement(mech: Mechanism, q: np.ndarray) -> Any:
 
 def scenarios(mech: Mechanism) -> dict[str, Scenario]:
     """The family's scenarios, then ``home_circle``."""
-    out = dict(mech.family.scenarios(mech))
+    out = dict(scenario_source(mech).scenarios(mech))
     out.setdefault("home_circle", home_circle(mech))
     return out
 

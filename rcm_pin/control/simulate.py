@@ -16,9 +16,10 @@ runs a serial right-hand side as one compiled CasADi function instead
 
 Efforts come from a :class:`~rcm_pin.control.computed_torque.ComputedTorque` (whose model
 may differ from the plant) or are zero. The run stops at the family's stop conditions
-(leaving the regular region), when the task error exceeds ``stop_error`` and at any
-further ``events`` (terminal). Output: every ``samples`` uniform times, or the solver's
-own steps with ``samples=None``.
+(:meth:`~rcm_pin.control.capabilities.ScenarioSource.stop_events`: leaving the regular
+region; serial and closed plants alike), when the task error exceeds ``stop_error`` and
+at any further ``events`` (terminal). Output: every ``samples`` uniform times, or the
+solver's own steps with ``samples=None``.
 
 Joint range: a run that starts or gets outside the plant's joint limits (``plant.lower``,
 ``plant.upper``, 1e-9 slack) stops with a :class:`~rcm_pin.errors.JointLimitError` (CLI
@@ -37,12 +38,12 @@ from typing import Any
 import numpy as np
 
 from rcm_pin.control.backends import check_backend, compiled_rhs
+from rcm_pin.control.capabilities import StopCondition, scenario_source
 from rcm_pin.control.closed_hot_path import ClosedPlant
 from rcm_pin.control.computed_torque import ComputedTorque
 from rcm_pin.control.hot_path import SerialPlant, free_samples
 from rcm_pin.control.result import SimulationResult
 from rcm_pin.errors import InvalidInputError, JointLimitError
-from rcm_pin.model.family import StopEvent
 from rcm_pin.model.mechanism import Mechanism
 
 Accel = Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]
@@ -94,7 +95,7 @@ def simulate(
     stop_error: float | None = 0.5,
     progress: bool = False,
     max_step: float = np.inf,
-    events: Sequence[StopEvent] = (),
+    events: Sequence[StopCondition] = (),
     baumgarte: tuple[float, float] = (50.0, 1.0),
     allow_outside_limits: bool = False,
     backend: str = "python",
@@ -163,7 +164,7 @@ def simulate(
         q, v = y[:n], y[n:]
         return np.concatenate((v, accel(q, v, tau_of(t, q, v))))
 
-    stops = list(plant.family.stop_events(plant)) if plant.loops is None else []
+    stops: list[StopCondition] = list(scenario_source(plant).stop_events(plant))
     if controller is not None and law is not None and stop_error is not None:
         task, limit, reference = controller.task_output, stop_error, law.reference
 

@@ -1,48 +1,20 @@
 """Task kinematics for the control law: the family's closed form, or Pinocchio.
 
 A task is a subset of a serial mechanism's output coordinates (e.g. the tool position
-x, y, z). :func:`task_kinematics` returns the family's closed form when it has one (the
-RCM mechanisms' p = q3·e4) and otherwise the Pinocchio route:
-
-    x = frame position rows,   J = LOCAL_WORLD_ALIGNED frame Jacobian rows,
-    J̇ q̇ = classical frame acceleration at q̈ = 0.
+x, y, z). :func:`task_kinematics` asks the family's
+:class:`~rcm_pin.control.capabilities.TaskModel` (the RCM mechanisms' p = q3·e4), else
+the default, Pinocchio's frame Jacobian route
+(:func:`~rcm_pin.control.capabilities.pinocchio_task`).
 
 Tests check that the two routes agree where both exist.
 """
 
 from __future__ import annotations
 
-import numpy as np
-import pinocchio as pin
-
+from rcm_pin.control.capabilities import TaskKinematics, task_model
 from rcm_pin.errors import InvalidInputError
-from rcm_pin.model.family import TaskKinematics
-from rcm_pin.model.loops import LWA
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import Output
-
-
-def pinocchio_task(mech: Mechanism, task: Output) -> TaskKinematics:
-    """Task kinematics of any serial mechanism from Pinocchio (module docstring)."""
-    model, fid, rows = mech.model, task.frame_id, task.rows
-
-    def position(q: np.ndarray) -> np.ndarray:
-        pin.forwardKinematics(model, mech.data, mech.to_pin(q))
-        return task.value(pin.updateFramePlacement(model, mech.data, fid))
-
-    def jacobian(q: np.ndarray) -> np.ndarray:
-        pin.computeJointJacobians(model, mech.data, mech.to_pin(q))
-        jac = pin.getFrameJacobian(model, mech.data, fid, LWA)
-        return np.asarray(jac)[rows][:, mech.v_index]
-
-    def bias(q: np.ndarray, v: np.ndarray) -> np.ndarray:
-        data = mech.data
-        pin.forwardKinematics(model, data, mech.to_pin(q), mech.v_pin(v), np.zeros(model.nv))
-        pin.updateFramePlacements(model, data)
-        acc = pin.getFrameClassicalAcceleration(model, data, fid, LWA).vector
-        return np.asarray(acc)[rows]
-
-    return TaskKinematics(np.arange(mech.nv), position, jacobian, bias, None)
 
 
 def task_output(mech: Mechanism, coords: tuple[str, ...] | None) -> Output:
@@ -63,8 +35,9 @@ def task_output(mech: Mechanism, coords: tuple[str, ...] | None) -> Output:
 
 
 def task_kinematics(mech: Mechanism, task: Output) -> TaskKinematics:
-    """The family's closed form of the task, else :func:`pinocchio_task`."""
-    return mech.family.task_kinematics(mech, task) or pinocchio_task(mech, task)
+    """The kinematics of the task by the mechanism's :class:`TaskModel`
+    (:func:`~rcm_pin.control.capabilities.task_model`)."""
+    return task_model(mech).kinematics(mech, task)
 
 
-__all__ = ["pinocchio_task", "task_kinematics", "task_output"]
+__all__ = ["task_kinematics", "task_output"]

@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from rcm_pin.analysis.capabilities import Assemblies, Branches, NumericPosition
+from rcm_pin.control.capabilities import DefaultScenarios
 from rcm_pin.control.references import QuinticPath
 from rcm_pin.errors import UnreachablePoseError
 from rcm_pin.geometry import circle_points
@@ -176,6 +177,34 @@ class FiveBarPosition(NumericPosition):
         return MODES
 
 
+class FiveBarScenarios(DefaultScenarios):
+    """The crossing of paper 004 Fig. 13 (no stop events: the law switches drives)."""
+
+    def scenarios(self, mech: Mechanism) -> dict[str, Any]:
+        """Paper 004 Figs. 13–14: a path across the main drives' type-2 curve, drive
+        switching inside σ_min/σ_max(A) < 0.2, torque limit 0.5 N·m (τ_c = 0.03 s)."""
+        from rcm_pin.control.computed_torque import Gains
+        from rcm_pin.control.scenario import Scenario
+
+        return {
+            "crossing": Scenario(
+                CROSSING,
+                Gains.from_tau_zeta(0.03, 1.0),
+                1.3,
+                "quintic (0.01, 0.17) -> (-0.01, 0.02) m in 1 s, 0.3 s rest",
+                mode=1,
+                offset=(0.002, 0.0),
+                switching=0.2,
+                limit=0.5,
+                method="RK45",
+                rtol=1e-8,
+                atol=1e-10,
+                max_step=5e-3,
+                samples=None,
+            )
+        }
+
+
 class FiveBarFamily(Family):
     """Hooks of the five-bar: working and assembly modes, A/B of the main drives."""
 
@@ -183,7 +212,10 @@ class FiveBarFamily(Family):
     description = "planar five-bar RR-RR with extra drives (paper 004 Fig. 13)"
     closed = True
     workspace_options = ("n",)
-    capabilities = (FiveBarPosition(),)
+    capabilities = (
+        FiveBarPosition(),
+        FiveBarScenarios(),
+    )
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
         """``home``: P on the symmetry axis at 60 % of the reach, working mode ``++``."""
@@ -230,30 +262,6 @@ class FiveBarFamily(Family):
             "constant_orientation_area": area,
             "total_area": area,
             "reachable_area": area,
-        }
-
-    def scenarios(self, mech: Mechanism) -> dict[str, Any]:
-        """Paper 004 Figs. 13–14: a path across the main drives' type-2 curve, drive
-        switching inside σ_min/σ_max(A) < 0.2, torque limit 0.5 N·m (τ_c = 0.03 s)."""
-        from rcm_pin.control.computed_torque import Gains
-        from rcm_pin.control.scenario import Scenario
-
-        return {
-            "crossing": Scenario(
-                CROSSING,
-                Gains.from_tau_zeta(0.03, 1.0),
-                1.3,
-                "quintic (0.01, 0.17) -> (-0.01, 0.02) m in 1 s, 0.3 s rest",
-                mode=1,
-                offset=(0.002, 0.0),
-                switching=0.2,
-                limit=0.5,
-                method="RK45",
-                rtol=1e-8,
-                atol=1e-10,
-                max_step=5e-3,
-                samples=None,
-            )
         }
 
     def plot_workspace(self, mech: Mechanism, path: Path, **options: Any) -> Path:

@@ -5,14 +5,13 @@ mechanism's name. They ask the mechanism's :class:`Family` for a hook; a hook th
 ``None`` means "this family has no closed form here", and the generic numeric route runs.
 Each family module in ``rcm_pin.mechanisms`` subclasses :class:`Family` and overrides the
 hooks its papers give (analytic position problems, the paper's A and B matrices, named
-singularity causes, workspace summaries, stop conditions of simulations, ...).
+singularity causes, workspace summaries, ...).
 
 The base class is also the family of a URDF loaded by path that names no family.
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar
@@ -22,7 +21,6 @@ import numpy as np
 if TYPE_CHECKING:
     from rcm_pin.model.mechanism import Mechanism
     from rcm_pin.model.metric import DesignMetric
-    from rcm_pin.model.output import Output
 
 
 T = TypeVar("T")
@@ -59,35 +57,6 @@ class Cause:
     condition: str
     tasks: tuple[str, ...]
     rank_loss: int
-
-
-#: A simulation stop condition: (description, g(t, q, v)); the run stops where g crosses 0.
-StopEvent = tuple[str, Callable[[float, np.ndarray, np.ndarray], float]]
-
-
-@dataclass(frozen=True)
-class TaskKinematics:
-    """Closed-form kinematics of a task (output coordinates) over some coordinates.
-
-    Attributes:
-        joints: coordinate indices the task depends on (the others do not move it).
-        position: q (n,) -> task value (dim,).
-        jacobian: q -> ∂x/∂q_joints (dim, len(joints)).
-        bias: (q, q̇) -> J̇ q̇ (dim,).
-        inverse: task value -> q_joints of the principal branch (None: not available).
-        batch: (q (N, n), q̇ (N, nv)) -> (x (N, dim), J (N, dim, len(joints)), J̇ q̇
-            (N, dim)) vectorised over states, the same values as the three one-state
-            functions (None: they are called per state).
-    """
-
-    joints: np.ndarray
-    position: Callable[[np.ndarray], np.ndarray]
-    jacobian: Callable[[np.ndarray], np.ndarray]
-    bias: Callable[[np.ndarray, np.ndarray], np.ndarray]
-    inverse: Callable[[np.ndarray], np.ndarray] | None = None
-    batch: Callable[[np.ndarray, np.ndarray], tuple[np.ndarray, np.ndarray, np.ndarray]] | None = (
-        None
-    )
 
 
 class Family:
@@ -157,18 +126,5 @@ class Family:
         """Figures of merit of a whole design, by name (:mod:`rcm_pin.design` sweeps them)."""
         return {}
 
-    # ---------------------------------------------------------------- control
-    def task_kinematics(self, mech: Mechanism, task: Output) -> TaskKinematics | None:
-        """Closed-form kinematics of a control task (None: Pinocchio's frame Jacobian)."""
-        return None
 
-    def scenarios(self, mech: Mechanism) -> dict[str, Any]:
-        """Named simulation scenarios (:class:`rcm_pin.control.scenario.Scenario`)."""
-        return {}
-
-    def stop_events(self, mech: Mechanism) -> list[StopEvent]:
-        """Conditions that end a simulation (leaving the regular region)."""
-        return []
-
-
-__all__ = ["Branch", "Cause", "Family", "StopEvent", "TaskKinematics"]
+__all__ = ["Branch", "Cause", "Family"]

@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from rcm_pin.analysis.capabilities import Assemblies, Branches, NumericPosition
+from rcm_pin.control.capabilities import DefaultScenarios
 from rcm_pin.errors import InvalidInputError, UnreachablePoseError
 from rcm_pin.mechanisms.planar_3rrr import closed_form as p3
 from rcm_pin.model.family import Branch, Family
@@ -75,6 +76,30 @@ class Planar3RRRPosition(NumericPosition):
         return MODES
 
 
+class Planar3RRRScenarios(DefaultScenarios):
+    """Paper 004's platform circle (no stop events)."""
+
+    def scenarios(self, mech: Mechanism) -> dict[str, Any]:
+        """Paper 004's control law on a platform circle with a φ oscillation (τ = 0.05 s)."""
+        from rcm_pin.control.computed_torque import Gains
+        from rcm_pin.control.references import CircleWithAngle
+        from rcm_pin.control.scenario import Scenario
+
+        return {
+            "circle": Scenario(
+                CircleWithAngle(),
+                Gains.from_tau_zeta(0.05, 1.0),
+                1.0,
+                "circle r = 0.03 m about (0.02, 0.01) m, φ ± 0.1 rad, 1 Hz",
+                mode="+++",
+                offset=(0.002, -0.001, 0.01),
+                rtol=1e-11,
+                atol=1e-13,
+                samples=201,
+            )
+        }
+
+
 class Planar3RRRFamily(Family):
     """Hooks of the planar 3-RRR (module docstring)."""
 
@@ -82,7 +107,10 @@ class Planar3RRRFamily(Family):
     description = "planar 3-RRR parallel mechanisms (paper 004)"
     closed = True
     workspace_options = ("n", "phi", "phi_range")
-    capabilities = (Planar3RRRPosition(),)
+    capabilities = (
+        Planar3RRRPosition(),
+        Planar3RRRScenarios(),
+    )
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
         """``home``: the platform centred at the origin, φ = 0, working mode ``+++``."""
@@ -151,26 +179,6 @@ class Planar3RRRFamily(Family):
             "constant_orientation_area": float(w.sum()) * cell,
             "total_area": float((count == len(phis)).sum()) * cell,
             "reachable_area": float((count > 0).sum()) * cell,
-        }
-
-    def scenarios(self, mech: Mechanism) -> dict[str, Any]:
-        """Paper 004's control law on a platform circle with a φ oscillation (τ = 0.05 s)."""
-        from rcm_pin.control.computed_torque import Gains
-        from rcm_pin.control.references import CircleWithAngle
-        from rcm_pin.control.scenario import Scenario
-
-        return {
-            "circle": Scenario(
-                CircleWithAngle(),
-                Gains.from_tau_zeta(0.05, 1.0),
-                1.0,
-                "circle r = 0.03 m about (0.02, 0.01) m, φ ± 0.1 rad, 1 Hz",
-                mode="+++",
-                offset=(0.002, -0.001, 0.01),
-                rtol=1e-11,
-                atol=1e-13,
-                samples=201,
-            )
         }
 
     def plot_workspace(self, mech: Mechanism, path: Path, **options: Any) -> Path:

@@ -22,7 +22,13 @@ from typing import Any
 import numpy as np
 
 from rcm_pin.analysis.capabilities import Branches, NumericPosition, ReferencePoses
-from rcm_pin.model.family import Branch, Cause, Family, StopEvent, TaskKinematics
+from rcm_pin.control.capabilities import (
+    FrameJacobianTask,
+    ScenarioSource,
+    StopEvent,
+    TaskKinematics,
+)
+from rcm_pin.model.family import Branch, Cause, Family
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import Output
 
@@ -64,12 +70,66 @@ class RcmPoses(ReferencePoses):
         return mech.configurations["regular"]
 
 
+class RcmTask(FrameJacobianTask):
+    """The tool centre p = q3·e4(q1, q2) by the closed form (:mod:`.point`); Pinocchio's
+    frame Jacobian for any other task."""
+
+    def kinematics(self, mech: Mechanism, task: Output) -> TaskKinematics:
+        if task.coords != ("x", "y", "z") or mech.nq < 3 or task.frame != mech.output.frame:
+            return super().kinematics(mech, task)
+        from rcm_pin.mechanisms.rcm import point
+
+        return TaskKinematics(
+            np.arange(3),
+            point.point_position,
+            point.point_jacobian,
+            point.point_bias,
+            point.point_ik,
+            point.point_kinematics,
+            closed_form=True,
+        )
+
+
+class RcmScenarios(ScenarioSource):
+    """Paper 000's sinusoid and a rig circle; stop on leaving the regular region."""
+
+    def scenarios(self, mech: Mechanism) -> dict[str, Any]:
+        """Paper 000's sinusoid (Kn = 720, Kc = 12) and a circle inside the rig's workspace."""
+        from rcm_pin.control.computed_torque import Gains
+        from rcm_pin.control.references import TRAJECTORIES
+        from rcm_pin.control.scenario import Scenario
+
+        gains = Gains(720.0, 12.0)
+        return {
+            "paper000": Scenario(
+                TRAJECTORIES["paper000"], gains, 2.0, "paper 000 Fig. 4 (needs --arg q3_upper=0.3)"
+            ),
+            "rig_circle": Scenario(
+                TRAJECTORIES["rig_circle"], gains, 2.0, "20 mm circle at z = 0.09 m, 1 Hz"
+            ),
+        }
+
+    def stop_events(self, mech: Mechanism) -> tuple[StopEvent, ...]:
+        """The tool centre near A (q3 < 1 mm) or the axis near the base axis (cos q2 < 0.01)."""
+        if mech.nq < 3:
+            return ()
+        return (
+            StopEvent("q3 < 1 mm", lambda t, q, v: float(q[2] - 1e-3)),
+            StopEvent("cos q2 < 0.01", lambda t, q, v: float(np.cos(q[1]) - 1e-2)),
+        )
+
+
 class RcmFamily(Family):
     """Hooks of the RCM mechanisms (module docstring)."""
 
     name = "rcm"
     description = "RCM mechanisms with bevel-gear or belt transmissions (papers 000/003)"
-    capabilities = (RcmPosition(), RcmPoses())
+    capabilities = (
+        RcmPosition(),
+        RcmPoses(),
+        RcmTask(),
+        RcmScenarios(),
+    )
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
         """``home`` (zeros clipped to the limits), ``mid`` (the middle of the joint box,
@@ -113,21 +173,6 @@ class RcmFamily(Family):
             return BELT_PARAMS
         return ()
 
-    def task_kinematics(self, mech: Mechanism, task: Output) -> TaskKinematics | None:
-        """The tool centre p = q3·e4(q1, q2) by the closed form (:mod:`.point`)."""
-        if task.coords != ("x", "y", "z") or mech.nq < 3 or task.frame != mech.output.frame:
-            return None
-        from rcm_pin.mechanisms.rcm import point
-
-        return TaskKinematics(
-            np.arange(3),
-            point.point_position,
-            point.point_jacobian,
-            point.point_bias,
-            point.point_ik,
-            point.point_kinematics,
-        )
-
     def accuracy_report(self, mech: Mechanism, q: np.ndarray) -> dict[str, Any] | None:
         """Design parameters and part placements vs tool position and RCM offset."""
         from rcm_pin.mechanisms.rcm.accuracy import report
@@ -139,31 +184,6 @@ class RcmFamily(Family):
         from rcm_pin.mechanisms.rcm.design import METRICS
 
         return dict(METRICS)
-
-    def scenarios(self, mech: Mechanism) -> dict[str, Any]:
-        """Paper 000's sinusoid (Kn = 720, Kc = 12) and a circle inside the rig's workspace."""
-        from rcm_pin.control.computed_torque import Gains
-        from rcm_pin.control.references import TRAJECTORIES
-        from rcm_pin.control.scenario import Scenario
-
-        gains = Gains(720.0, 12.0)
-        return {
-            "paper000": Scenario(
-                TRAJECTORIES["paper000"], gains, 2.0, "paper 000 Fig. 4 (needs --arg q3_upper=0.3)"
-            ),
-            "rig_circle": Scenario(
-                TRAJECTORIES["rig_circle"], gains, 2.0, "20 mm circle at z = 0.09 m, 1 Hz"
-            ),
-        }
-
-    def stop_events(self, mech: Mechanism) -> list[StopEvent]:
-        """Leaving the regular region: the tool centre near A or the axis near the base axis."""
-        if mech.nq < 3:
-            return []
-        return [
-            ("q3 < 1 mm", lambda t, q, v: float(q[2] - 1e-3)),
-            ("cos q2 < 0.01", lambda t, q, v: float(np.cos(q[1]) - 1e-2)),
-        ]
 
 
 FAMILY = RcmFamily()
