@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from rcm_pin.analysis.capabilities import Assemblies, Branches, NumericPosition
+from rcm_pin.analysis.workspace import NumericWorkspace
 from rcm_pin.errors import UnreachablePoseError
 from rcm_pin.linkage.fourbar import (
     FourBar,
@@ -123,14 +124,39 @@ class FourBarPosition(NumericPosition):
         return MODES
 
 
+class FourBarWorkspace(NumericWorkspace):
+    """The rocker's range and swing, the Grashof class, the transmission-angle range (no
+    options); the sampled figure."""
+
+    options = ()
+
+    def summary(
+        self, mech: Mechanism, samples: int | None, seed: int, **options: Any
+    ) -> dict[str, Any]:
+        g = geometry(mech)
+        lo, hi = rocker_range(g)
+        mu = transmission_angle(g, np.linspace(-np.pi, np.pi, 3601))
+        return {
+            "rocker_min": lo,
+            "rocker_max": hi,
+            "swing": hi - lo,
+            "grashof": g.grashof,
+            "crank_rocker": g.crank_rocker,
+            "transmission_angle_min": float(mu.min()),
+            "transmission_angle_max": float(mu.max()),
+        }
+
+
 class FourBarFamily(Family):
     """Hooks of the four-bar: both assembly and working modes, A/B, the rocker's swing."""
 
     name = "four_bar"
     description = "planar four-bar linkages (paper 002)"
     closed = True
-    workspace_options: tuple[str, ...] = ()
-    capabilities = (FourBarPosition(),)
+    capabilities = (
+        FourBarPosition(),
+        FourBarWorkspace(),
+    )
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
         """``home``: crank along the frame line (q1 = 0), rocker above it."""
@@ -175,21 +201,6 @@ class FourBarFamily(Family):
                 ),
                 DesignMetric("time_ratio", "-", "min", "slower / faster stroke", ratio),
             )
-        }
-
-    def workspace_summary(self, mech: Mechanism, **options: Any) -> dict[str, Any]:
-        """The rocker's range and swing, the Grashof class, the transmission-angle range."""
-        g = geometry(mech)
-        lo, hi = rocker_range(g)
-        mu = transmission_angle(g, np.linspace(-np.pi, np.pi, 3601))
-        return {
-            "rocker_min": lo,
-            "rocker_max": hi,
-            "swing": hi - lo,
-            "grashof": g.grashof,
-            "crank_rocker": g.crank_rocker,
-            "transmission_angle_min": float(mu.min()),
-            "transmission_angle_max": float(mu.max()),
         }
 
 

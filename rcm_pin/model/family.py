@@ -14,7 +14,6 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar
 
 import numpy as np
@@ -97,9 +96,6 @@ class Family:
     description = "any URDF: numeric routes only"
     #: Whether the family's mechanisms have loop closures.
     closed = False
-    #: Options of ``rcm-pin workspace`` its workspace uses (``samples``, ``n``, ``phi``,
-    #: ``phi_range``); the others are refused, never ignored. The numeric route samples.
-    workspace_options: tuple[str, ...] = ("samples",)
 
     #: The family's implementations of capabilities the consuming layers define (e.g.
     #: ``rcm_pin.analysis.capabilities.PositionSolver``); each layer's resolver takes the
@@ -130,15 +126,7 @@ class Family:
         """A vectorised closed-form map of the singularity measures over the workspace."""
         return None
 
-    # ---------------------------------------------------------------- workspace
-    def workspace_summary(self, mech: Mechanism, **options: Any) -> dict[str, Any] | None:
-        """Closed-form workspace figures (volumes, areas, the rig specification)."""
-        return None
-
-    def plot_workspace(self, mech: Mechanism, path: Path, **options: Any) -> Path | None:
-        """A PNG of the workspace drawn from the closed forms."""
-        return None
-
+    # ---------------------------------------------------------------- assets
     def mesh_dirs(self, mech: Mechanism) -> list[str]:
         """Folders that resolve the URDF's ``package://`` mesh paths (for the viewer)."""
         return []

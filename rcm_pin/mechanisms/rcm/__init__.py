@@ -22,6 +22,7 @@ from typing import Any
 import numpy as np
 
 from rcm_pin.analysis.capabilities import Branches, NumericPosition, ReferencePoses
+from rcm_pin.analysis.workspace import WorkspaceModel
 from rcm_pin.model.family import Branch, Cause, Family, StopEvent, TaskKinematics
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import Output
@@ -64,12 +65,33 @@ class RcmPoses(ReferencePoses):
         return mech.configurations["regular"]
 
 
+class RcmWorkspace(WorkspaceModel):
+    """Volume by three routes, the rig specification, the boundary faces (:mod:`.workspace`)."""
+
+    def summary(
+        self, mech: Mechanism, samples: int | None, seed: int, **options: Any
+    ) -> dict[str, Any]:
+        from rcm_pin.mechanisms.rcm.workspace import summary
+
+        return summary(mech, 200_000 if samples is None else samples, seed)
+
+    def plot(self, mech: Mechanism, path: Path, samples: int, seed: int, **options: Any) -> Path:
+        """Sections like paper 000 Fig. 7 with the rig specification overlaid."""
+        from rcm_pin.mechanisms.rcm.workspace import plot_sections
+
+        return plot_sections(mech, path, samples, seed)
+
+
 class RcmFamily(Family):
     """Hooks of the RCM mechanisms (module docstring)."""
 
     name = "rcm"
     description = "RCM mechanisms with bevel-gear or belt transmissions (papers 000/003)"
-    capabilities = (RcmPosition(), RcmPoses())
+    capabilities = (
+        RcmPosition(),
+        RcmPoses(),
+        RcmWorkspace(),
+    )
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
         """``home`` (zeros clipped to the limits), ``mid`` (the middle of the joint box,
@@ -88,20 +110,6 @@ class RcmFamily(Family):
         from rcm_pin.mechanisms.rcm.singularity import classify
 
         return classify(mech, q)
-
-    def workspace_summary(self, mech: Mechanism, **options: Any) -> dict[str, Any] | None:
-        """Volume by three routes, the rig specification, the boundary faces."""
-        from rcm_pin.mechanisms.rcm.workspace import summary
-
-        return summary(mech, int(options.get("samples", 200_000)), int(options.get("seed", 0)))
-
-    def plot_workspace(self, mech: Mechanism, path: Path, **options: Any) -> Path | None:
-        """Sections like paper 000 Fig. 7 with the rig specification overlaid."""
-        from rcm_pin.mechanisms.rcm.workspace import plot_sections
-
-        return plot_sections(
-            mech, path, int(options.get("samples", 200_000)), int(options.get("seed", 0))
-        )
 
     def accuracy_parameters(self, mech: Mechanism) -> tuple[str, ...]:
         """The kinematic xacro arguments of the variant (bevel: tooth counts; belt: pulleys)."""
