@@ -19,6 +19,7 @@ from rcm_pin.analysis.closed_position import direct_position_multistart, direct_
 from rcm_pin.analysis.loop_velocity import classify, passive_velocity, velocity_matrices
 from rcm_pin.analysis.screws import screw_test
 from rcm_pin.analysis.workspace import workspace_model
+from rcm_pin.design.metrics import metric_source
 from rcm_pin.dynamics.constrained import forward_dynamics, inverse_dynamics, pin_constraint_dynamics
 from rcm_pin.errors import (
     InvalidInputError,
@@ -308,7 +309,7 @@ def test_one_grashof_rule_for_the_family_and_the_linkage(lengths, kind):
     assert g.grashof_class == kind and g.crank_rocker == crank_rocker
     assert g.grashof == (kind != "non-Grashof triple-rocker")
     assert performance(g).crank_rocker == crank_rocker
-    swing = mech.family.design_metrics()["swing"].evaluate(mech)
+    swing = metric_source(mech.family).metrics()["swing"].evaluate(mech)
     if crank_rocker:
         lo, hi = fb.rocker_range(g)
         assert workspace_model(mech).summary(mech, None, 0)["crank_rocker"]

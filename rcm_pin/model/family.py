@@ -4,8 +4,10 @@ Generic algorithms (``rcm_pin.analysis``, ``dynamics``, ``control``, ``viz``) ne
 mechanism's name. They ask the mechanism's :class:`Family` for a hook; a hook that returns
 ``None`` means "this family has no closed form here", and the generic numeric route runs.
 Each family module in ``rcm_pin.mechanisms`` subclasses :class:`Family` and overrides the
-hooks its papers give (analytic position problems, the paper's A and B matrices, named
-singularity causes, workspace summaries, stop conditions of simulations, ...).
+hooks its papers give (the paper's A and B matrices, named singularity causes, stop
+conditions of simulations, ...). Concerns moved to typed capabilities (position problems,
+reference poses, workspace, design metrics, mesh folders) are listed in
+:attr:`Family.capabilities` instead, each resolved by the layer that consumes it.
 
 The base class is also the family of a URDF loaded by path that names no family.
 """
@@ -20,7 +22,6 @@ import numpy as np
 
 if TYPE_CHECKING:
     from rcm_pin.model.mechanism import Mechanism
-    from rcm_pin.model.metric import DesignMetric
     from rcm_pin.model.output import Output
 
 
@@ -126,11 +127,6 @@ class Family:
         """A vectorised closed-form map of the singularity measures over the workspace."""
         return None
 
-    # ---------------------------------------------------------------- assets
-    def mesh_dirs(self, mech: Mechanism) -> list[str]:
-        """Folders that resolve the URDF's ``package://`` mesh paths (for the viewer)."""
-        return []
-
     # ---------------------------------------------------------------- accuracy
     def accuracy_parameters(self, mech: Mechanism) -> tuple[str, ...]:
         """xacro arguments that enter the kinematics (design-error variables)."""
@@ -139,11 +135,6 @@ class Family:
     def accuracy_report(self, mech: Mechanism, q: np.ndarray) -> dict[str, Any] | None:
         """The family's own accuracy table (None: the generic placement sensitivities)."""
         return None
-
-    # ---------------------------------------------------------------- design
-    def design_metrics(self) -> dict[str, DesignMetric]:
-        """Figures of merit of a whole design, by name (:mod:`rcm_pin.design` sweeps them)."""
-        return {}
 
     # ---------------------------------------------------------------- control
     def task_kinematics(self, mech: Mechanism, task: Output) -> TaskKinematics | None:

@@ -19,6 +19,7 @@ import numpy as np
 from rcm_pin.analysis.capabilities import Assemblies, Branches, NumericPosition
 from rcm_pin.analysis.workspace import WorkspaceModel
 from rcm_pin.errors import InvalidInputError, UnreachablePoseError
+from rcm_pin.interfaces.design import DesignMetric, MetricSource
 from rcm_pin.mechanisms.planar_3rrr import closed_form as p3
 from rcm_pin.model.family import Branch, Family
 from rcm_pin.model.mechanism import Mechanism
@@ -130,6 +131,15 @@ class Planar3RRRWorkspace(WorkspaceModel):
         )
 
 
+class Planar3RRRMetrics(MetricSource):
+    """Regular workspace area and conditioning of a design (:mod:`.design`)."""
+
+    def metrics(self) -> dict[str, DesignMetric]:
+        from rcm_pin.mechanisms.planar_3rrr.design import METRICS
+
+        return dict(METRICS)
+
+
 class Planar3RRRFamily(Family):
     """Hooks of the planar 3-RRR (module docstring)."""
 
@@ -139,6 +149,7 @@ class Planar3RRRFamily(Family):
     capabilities = (
         Planar3RRRPosition(),
         Planar3RRRWorkspace(),
+        Planar3RRRMetrics(),
     )
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
@@ -164,12 +175,6 @@ class Planar3RRRFamily(Family):
         grid = ws.Grid.around(geometry(mech), n)
         da, db = ws.det_maps(geometry(mech), grid, phi, mode)
         return {"x": grid.x, "y": grid.y, "det_A": da, "det_B": db, "mode": MODES[mode], "phi": phi}
-
-    def design_metrics(self) -> dict[str, Any]:
-        """Regular workspace area and conditioning of a design (:mod:`.design`)."""
-        from rcm_pin.mechanisms.planar_3rrr.design import METRICS
-
-        return dict(METRICS)
 
     def scenarios(self, mech: Mechanism) -> dict[str, Any]:
         """Paper 004's control law on a platform circle with a φ oscillation (τ = 0.05 s)."""

@@ -23,6 +23,7 @@ import numpy as np
 
 from rcm_pin.analysis.capabilities import Branches, NumericPosition, ReferencePoses
 from rcm_pin.analysis.workspace import WorkspaceModel
+from rcm_pin.interfaces.design import DesignMetric, MetricSource
 from rcm_pin.model.family import Branch, Cause, Family, StopEvent, TaskKinematics
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import Output
@@ -82,6 +83,15 @@ class RcmWorkspace(WorkspaceModel):
         return plot_sections(mech, path, samples, seed)
 
 
+class RcmMetrics(MetricSource):
+    """Rig coverage, conditioning and RCM drift of a design (:mod:`.design`)."""
+
+    def metrics(self) -> dict[str, DesignMetric]:
+        from rcm_pin.mechanisms.rcm.design import METRICS
+
+        return dict(METRICS)
+
+
 class RcmFamily(Family):
     """Hooks of the RCM mechanisms (module docstring)."""
 
@@ -91,6 +101,7 @@ class RcmFamily(Family):
         RcmPosition(),
         RcmPoses(),
         RcmWorkspace(),
+        RcmMetrics(),
     )
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
@@ -141,12 +152,6 @@ class RcmFamily(Family):
         from rcm_pin.mechanisms.rcm.accuracy import report
 
         return report(mech, q)
-
-    def design_metrics(self) -> dict[str, Any]:
-        """Rig coverage, conditioning and RCM drift of a design (:mod:`.design`)."""
-        from rcm_pin.mechanisms.rcm.design import METRICS
-
-        return dict(METRICS)
 
     def scenarios(self, mech: Mechanism) -> dict[str, Any]:
         """Paper 000's sinusoid (Kn = 720, Kc = 12) and a circle inside the rig's workspace."""

@@ -48,6 +48,7 @@ import numpy as np
 from rcm_pin.analysis.capabilities import Assemblies, Branches, NumericPosition
 from rcm_pin.analysis.workspace import WorkspaceModel
 from rcm_pin.errors import SingularConfigurationError, UnreachablePoseError
+from rcm_pin.interfaces.design import DesignMetric, MetricSource
 from rcm_pin.mechanisms.spherical_3rrr import accuracy, direct
 from rcm_pin.mechanisms.spherical_3rrr import closed_form as sc
 from rcm_pin.model.family import Branch, Family
@@ -155,6 +156,15 @@ class Spherical3RRRWorkspace(WorkspaceModel):
         return plots.maps_figure(geometry(mech), Path(path), mode=int(options.get("mode") or 0))
 
 
+class Spherical3RRRMetrics(MetricSource):
+    """Regular share of SO(3) and conditioning of a design (:mod:`.design`)."""
+
+    def metrics(self) -> dict[str, DesignMetric]:
+        from rcm_pin.mechanisms.spherical_3rrr.design import METRICS
+
+        return dict(METRICS)
+
+
 class Spherical3RRRFamily(Family):
     """Hooks of the spherical 3-RRR (module docstring)."""
 
@@ -164,6 +174,7 @@ class Spherical3RRRFamily(Family):
     capabilities = (
         Spherical3RRRPosition(),
         Spherical3RRRWorkspace(),
+        Spherical3RRRMetrics(),
     )
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
@@ -173,12 +184,6 @@ class Spherical3RRRFamily(Family):
     def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """Normalised A and B of the loop equations (:func:`normalised_ab`)."""
         return normalised_ab(geometry(mech), *pose_and_drives(mech, q))
-
-    def design_metrics(self) -> dict[str, Any]:
-        """Regular share of SO(3) and conditioning of a design (:mod:`.design`)."""
-        from rcm_pin.mechanisms.spherical_3rrr.design import METRICS
-
-        return dict(METRICS)
 
     def accuracy_parameters(self, mech: Mechanism) -> tuple[str, ...]:
         """The link angles θ_i1, θ_i2 (xacro arguments, the paper's error variables)."""
