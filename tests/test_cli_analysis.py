@@ -6,6 +6,7 @@ import json
 
 import pytest
 
+from rcm_pin.analysis.workspace import workspace_model
 from rcm_pin.cli import main
 
 
@@ -65,7 +66,7 @@ def test_every_analysis_runs_on_arms_and_loops(capsys, tmp_path, name):
     q = "--q=" + ",".join(repr(float(v)) for v in inputs)
     code, out = _json(capsys, ["singularities", name, q])
     assert code == 0 and out["modes"] and out["modes"][0]["verdict"] == "regular"
-    uses = mech.family.workspace_options  # the others are refused (test_cli_errors)
+    uses = workspace_model(mech).options  # the others are refused (test_cli_errors)
     opts = (["--samples", "2000"] if "samples" in uses else []) + (
         ["--n", "31"] if "n" in uses else []
     )

@@ -18,6 +18,8 @@ import rcm_pin
 from rcm_pin.analysis.closed_position import direct_position_multistart, direct_position_path
 from rcm_pin.analysis.loop_velocity import classify, passive_velocity, velocity_matrices
 from rcm_pin.analysis.screws import screw_test
+from rcm_pin.analysis.workspace import workspace_model
+from rcm_pin.design.metrics import metric_source
 from rcm_pin.dynamics.constrained import forward_dynamics, inverse_dynamics, pin_constraint_dynamics
 from rcm_pin.errors import (
     InvalidInputError,
@@ -263,7 +265,7 @@ def test_rocker_swing_by_continuation_and_transmission_angle(m4, g4):
     for a, b, o2, _ in (points(m4, q) for q in qs):  # angle A–B–O2, atan2 form
         mus.append(np.arctan2(abs(cross(a - b, o2 - b)), (a - b) @ (o2 - b)))
     assert np.max(np.abs(np.array(mus) - fb.transmission_angle(g4, path))) < EXACT
-    summary = m4.family.workspace_summary(m4)
+    summary = workspace_model(m4).summary(m4, None, 0)
     assert abs(summary["swing"] - (hi - lo)) < EXACT and summary["crank_rocker"]
     assert abs(summary["transmission_angle_min"] - min(np.array(mus)[on_grid])) < EXACT
 
@@ -307,14 +309,14 @@ def test_one_grashof_rule_for_the_family_and_the_linkage(lengths, kind):
     assert g.grashof_class == kind and g.crank_rocker == crank_rocker
     assert g.grashof == (kind != "non-Grashof triple-rocker")
     assert performance(g).crank_rocker == crank_rocker
-    swing = mech.family.design_metrics()["swing"].evaluate(mech)
+    swing = metric_source(mech.family).metrics()["swing"].evaluate(mech)
     if crank_rocker:
         lo, hi = fb.rocker_range(g)
-        assert mech.family.workspace_summary(mech)["crank_rocker"]
+        assert workspace_model(mech).summary(mech, None, 0)["crank_rocker"]
         assert abs(swing - np.rad2deg(hi - lo)) < EXACT
     else:
         assert np.isnan(swing)
-        assert message(InvalidInputError, mech.family.workspace_summary, mech) == (
+        assert message(InvalidInputError, workspace_model(mech).summary, mech, None, 0) == (
             f"links {tuple(lengths)} [m] are a {kind} linkage, not a crank-rocker; valid: "
             "Grashof (s + l < p + q) with the crank strictly the shortest link"
         )

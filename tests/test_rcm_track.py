@@ -17,6 +17,7 @@ from rcm_pin.cli import main
 from rcm_pin.errors import InvalidInputError, UnreachablePoseError
 from rcm_pin.studies.rcm_comparison import choose_trocar, make_setup, run
 from rcm_pin.studies.surgical_paths import Cone, surgical_path
+from rcm_pin.viz.assets import assets
 
 #: The URDF's transforms composed in another order than Pinocchio's: round-off only.
 FK = 1e-12
@@ -206,7 +207,7 @@ def _check_panes(page: str, tracks) -> None:
         assert not [c for c in commands if "/collisions/" in c["path"]]
         visual = pin.buildGeomFromUrdfString(
             tr.setup.mech.model, tr.setup.mech.urdf, pin.GeometryType.VISUAL,
-            package_dirs=list(tr.setup.mech.family.mesh_dirs(tr.setup.mech)),
+            package_dirs=list(assets(tr.setup.mech).mesh_dirs(tr.setup.mech)),
         )  # fmt: skip
         assert sum("/pinocchio/visuals/" in o for o in objects) == visual.ngeoms
         (animation,) = [c for c in commands if c["type"] == "set_animation"]

@@ -14,6 +14,7 @@ import pytest
 from conftest import EXACT
 
 import rcm_pin
+from rcm_pin.analysis.workspace import workspace_model
 from rcm_pin.cli import main
 from rcm_pin.errors import SingularConfigurationError
 from rcm_pin.mechanisms import translational_3ppapa as tp
@@ -76,8 +77,8 @@ def test_diagonal_point_is_type_2_and_sections_show_it(g):
     assert np.nanmin(sec["det"]) < 0 < np.nanmax(sec["det"])
 
 
-def test_plot_workspace_hook_writes_png(mm, tmp_path):
-    path = mm.family.plot_workspace(mm, tmp_path / "w.png")
+def test_workspace_model_writes_png(mm, tmp_path):
+    path = workspace_model(mm).plot(mm, tmp_path / "w.png", 200_000, 0)
     assert path.stat().st_size > 10_000
 
 

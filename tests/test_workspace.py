@@ -63,7 +63,7 @@ def test_numeric_closed_loop_workspace_refuses_a_run_it_cannot_afford(monkeypatc
     from rcm_pin.analysis import workspace as ws
 
     mech = rcm_pin.load("four_bar")  # without its family's closed form: the Newton route
-    monkeypatch.setattr(type(mech.family), "workspace_summary", lambda *a, **k: None)
+    monkeypatch.setattr(ws, "workspace_model", lambda mech: ws.NumericWorkspace())
     monkeypatch.setattr(ws, "MAX_SECONDS", 1e-9)
     with pytest.raises(InvalidInputError) as exc:
         ws.summary(mech, samples=2000)
@@ -81,7 +81,7 @@ def test_numeric_closed_loop_workspace_reuses_its_probe_samples(monkeypatch):
     from rcm_pin.analysis import workspace as ws
 
     mech = rcm_pin.load("four_bar")  # without its family's closed form: the Newton route
-    monkeypatch.setattr(type(mech.family), "workspace_summary", lambda *a, **k: None)
+    monkeypatch.setattr(ws, "workspace_model", lambda mech: ws.NumericWorkspace())
     s = ws.summary(mech, samples=1000, seed=3)
     pts = ws.output_points(mech, ws.sample_joints(mech, 1000, 3))
     ok = np.all(np.isfinite(pts), axis=1)

@@ -6,12 +6,13 @@ output frame's position by Pinocchio (:func:`rcm_pin.analysis.position.forward`)
 occupied-voxel volume of the point cloud is an upper estimate that converges as the voxels
 shrink and the samples grow. A family with closed forms adds its own figures (the RCM
 mechanisms' analytic volume and rig specification, the planar mechanisms' areas) through
-:meth:`rcm_pin.model.family.Family.workspace_summary`.
+its :class:`WorkspaceModel`; :func:`workspace_model` returns it, else :class:`NumericWorkspace`.
 """
 
 from __future__ import annotations
 
 import time
+from abc import ABC, abstractmethod
 from pathlib import Path
 from typing import Any
 
@@ -88,89 +89,134 @@ def volume_voxels(points: FloatArray, voxel: float) -> float:
     return float(len(cells) * voxel**3)
 
 
+class WorkspaceModel(ABC):
+    """A mechanism's workspace figures and figure (the generic code adds the name).
+
+    ``samples`` is ``rcm-pin workspace --samples`` (None: the model's default); ``options``
+    are the grid options of :attr:`options` that the CLI passes (``n``, ``phi``,
+    ``phi_range``) and ``mode`` where a figure draws one working mode.
+    """
+
+    #: Options of ``rcm-pin workspace`` the model uses (``samples``, ``n``, ``phi``,
+    #: ``phi_range``); the others are refused, never ignored.
+    options: tuple[str, ...] = ("samples",)
+
+    @abstractmethod
+    def summary(
+        self, mech: Mechanism, samples: int | None, seed: int, **options: Any
+    ) -> dict[str, Any]:
+        """The workspace figures by name (the CLI's JSON, without ``mechanism``)."""
+
+    @abstractmethod
+    def plot(self, mech: Mechanism, path: Path, samples: int, seed: int, **options: Any) -> Path:
+        """A PNG of the workspace at ``path``."""
+
+
+class NumericWorkspace(WorkspaceModel):
+    """The default: the sampled cloud's extent and voxel volume, three projections of it.
+
+    ``samples`` defaults to 200 000 (serial) and 1000 for a closed mechanism (each sample
+    is a Newton solve).
+    """
+
+    def summary(
+        self, mech: Mechanism, samples: int | None, seed: int, **options: Any
+    ) -> dict[str, Any]:
+        if samples is None:
+            samples = 200_000 if mech.loops is None else 1000
+        if mech.loops is not None and samples > MAX_NEWTON_SAMPLES:
+            raise InvalidInputError(
+                f"{mech.name}: {samples} samples, each a Newton solve of the loops; valid: at "
+                f"most {MAX_NEWTON_SAMPLES} (the family has no closed-form workspace)"
+            )
+        inputs = sample_joints(mech, samples, seed)
+        probe = np.empty((0, 3))
+        if mech.loops is not None:  # measure the cost of a Newton sample before committing
+            start = time.perf_counter()
+            probe = output_points(mech, inputs[:PROBE])
+            projected = (time.perf_counter() - start) / len(probe) * samples
+            if projected > MAX_SECONDS:
+                affordable = int(samples * MAX_SECONDS / projected)
+                hint = (
+                    f"about {affordable} samples"
+                    if affordable >= MIN_SAMPLES
+                    else f"about {affordable} samples, fewer than the {MIN_SAMPLES} a volume "
+                    "estimate needs: this mechanism's workspace needs a closed-form route"
+                )
+                raise InvalidInputError(
+                    f"{mech.name}: {samples} samples would take about {projected:.0f} s (a "
+                    f"Newton solve each); valid: at most {MAX_SECONDS:.0f} s of work, i.e. {hint}"
+                )
+        pts = np.vstack([probe, output_points(mech, inputs[len(probe) :])])
+        ok = np.all(np.isfinite(pts), axis=1)
+        if not ok.any():
+            raise InvalidInputError(f"{mech.name}: no sample assembled; the workspace is empty")
+        voxel = 0.004  # [m]
+        return {
+            "samples": samples,
+            "assembled_fraction": float(ok.mean()),
+            "volume_voxels": volume_voxels(pts[ok], voxel),
+            "voxel_edge": voxel,
+            "extent_min": pts[ok].min(axis=0),
+            "extent_max": pts[ok].max(axis=0),
+        }
+
+    def plot(self, mech: Mechanism, path: Path, samples: int, seed: int, **options: Any) -> Path:
+        import matplotlib
+
+        matplotlib.use("Agg")
+        import matplotlib.pyplot as plt
+
+        pts = output_points(mech, sample_joints(mech, min(samples, 20_000), seed))
+        pts = pts[np.all(np.isfinite(pts), axis=1)]
+        fig, axes = plt.subplots(1, 3, figsize=(15, 5))
+        for ax, (i, j) in zip(axes, ((0, 1), (0, 2), (1, 2)), strict=True):
+            ax.scatter(pts[:, i], pts[:, j], s=0.3, alpha=0.3)
+            ax.set(xlabel=f"{'xyz'[i]} [m]", ylabel=f"{'xyz'[j]} [m]", aspect="equal")
+            ax.grid(alpha=0.3)
+        fig.suptitle(f"{mech.name}: sampled positions of {mech.output.frame}")
+        fig.tight_layout()
+        fig.savefig(path, dpi=110)
+        plt.close(fig)
+        return Path(path)
+
+
+NUMERIC_WORKSPACE = NumericWorkspace()
+
+
+def workspace_model(mech: Mechanism) -> WorkspaceModel:
+    """The family's :class:`WorkspaceModel`, else :class:`NumericWorkspace`."""
+    return mech.family.capability(WorkspaceModel) or NUMERIC_WORKSPACE  # type: ignore[type-abstract]
+
+
 def summary(
     mech: Mechanism, samples: int | None = None, seed: int = 0, **options: Any
 ) -> dict[str, Any]:
-    """The family's workspace figures, or the sampled cloud's extent and voxel volume.
-
-    ``samples`` defaults to 200 000 (serial and closed-form routes) and 1000 for a closed
-    mechanism without a closed-form workspace (each sample is a Newton solve).
+    """The mechanism's workspace figures (:func:`workspace_model`), its name first.
 
     Raises:
-        InvalidInputError: a grid option ``n`` below 5, or a bad sample count.
+        InvalidInputError: a grid option ``n`` outside 5..MAX_GRID, or a bad sample count.
     """
     if not 5 <= int(options.get("n", 5)) <= MAX_GRID:
         raise InvalidInputError(f"grid size {options['n']}; valid: 5..{MAX_GRID} points per side")
-    family = mech.family.workspace_summary(
-        mech, samples=200_000 if samples is None else samples, seed=seed, **options
-    )
-    if family is not None:
-        return {"mechanism": mech.name, **family}
-    if samples is None:
-        samples = 200_000 if mech.loops is None else 1000
-    if mech.loops is not None and samples > MAX_NEWTON_SAMPLES:
-        raise InvalidInputError(
-            f"{mech.name}: {samples} samples, each a Newton solve of the loops; valid: at most "
-            f"{MAX_NEWTON_SAMPLES} (the family has no closed-form workspace)"
-        )
-    inputs = sample_joints(mech, samples, seed)
-    probe = np.empty((0, 3))
-    if mech.loops is not None:  # measure the cost of a Newton sample before committing
-        start = time.perf_counter()
-        probe = output_points(mech, inputs[:PROBE])
-        projected = (time.perf_counter() - start) / len(probe) * samples
-        if projected > MAX_SECONDS:
-            affordable = int(samples * MAX_SECONDS / projected)
-            hint = (
-                f"about {affordable} samples"
-                if affordable >= MIN_SAMPLES
-                else f"about {affordable} samples, fewer than the {MIN_SAMPLES} a volume "
-                "estimate needs: this mechanism's workspace needs a closed-form route"
-            )
-            raise InvalidInputError(
-                f"{mech.name}: {samples} samples would take about {projected:.0f} s (a Newton "
-                f"solve each); valid: at most {MAX_SECONDS:.0f} s of work, i.e. {hint}"
-            )
-    pts = np.vstack([probe, output_points(mech, inputs[len(probe) :])])
-    ok = np.all(np.isfinite(pts), axis=1)
-    if not ok.any():
-        raise InvalidInputError(f"{mech.name}: no sample assembled; the workspace is empty")
-    voxel = 0.004  # [m]
-    return {
-        "mechanism": mech.name,
-        "samples": samples,
-        "assembled_fraction": float(ok.mean()),
-        "volume_voxels": volume_voxels(pts[ok], voxel),
-        "voxel_edge": voxel,
-        "extent_min": pts[ok].min(axis=0),
-        "extent_max": pts[ok].max(axis=0),
-    }
+    return {"mechanism": mech.name, **workspace_model(mech).summary(mech, samples, seed, **options)}
 
 
 def plot(
     mech: Mechanism, path: Path, samples: int = 200_000, seed: int = 0, **options: Any
 ) -> Path:
-    """The family's workspace figure, or three projections of the sampled cloud."""
-    drawn = mech.family.plot_workspace(mech, Path(path), samples=samples, seed=seed, **options)
-    if drawn is not None:
-        return drawn
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    pts = output_points(mech, sample_joints(mech, min(samples, 20_000), seed))
-    pts = pts[np.all(np.isfinite(pts), axis=1)]
-    fig, axes = plt.subplots(1, 3, figsize=(15, 5))
-    for ax, (i, j) in zip(axes, ((0, 1), (0, 2), (1, 2)), strict=True):
-        ax.scatter(pts[:, i], pts[:, j], s=0.3, alpha=0.3)
-        ax.set(xlabel=f"{'xyz'[i]} [m]", ylabel=f"{'xyz'[j]} [m]", aspect="equal")
-        ax.grid(alpha=0.3)
-    fig.suptitle(f"{mech.name}: sampled positions of {mech.output.frame}")
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
-    return Path(path)
+    """The mechanism's workspace figure (:func:`workspace_model`)."""
+    return workspace_model(mech).plot(mech, Path(path), samples, seed, **options)
 
 
-__all__ = ["MAX_SAMPLES", "output_points", "plot", "sample_joints", "summary", "volume_voxels"]
+__all__ = [
+    "MAX_SAMPLES",
+    "NumericWorkspace",
+    "WorkspaceModel",
+    "output_points",
+    "plot",
+    "sample_joints",
+    "summary",
+    "volume_voxels",
+    "workspace_model",
+]

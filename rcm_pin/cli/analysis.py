@@ -209,12 +209,13 @@ def _plot_grid(mech: Mechanism, res: dict[str, Any], path: Path) -> Path:
 def cmd_workspace(args: argparse.Namespace) -> int:
     """``rcm-pin workspace``."""
     from rcm_pin.analysis import workspace as ws
+    from rcm_pin.analysis.workspace import workspace_model
 
     if args.plot:
         output_path(args.plot, "--plot")
     mech = load_mechanism(args)
     supported(mech, args, closed=("--phi", "--phi-range", "--n"))
-    uses = mech.family.workspace_options
+    uses = workspace_model(mech).options
     for key in ("samples", "n", "phi", "phi_range"):
         if getattr(args, key) is not None and key not in uses:
             valid = ", ".join("--" + o.replace("_", "-") for o in uses) or "no options"

@@ -17,6 +17,7 @@ from typing import Any
 
 from rcm_pin.catalog import load
 from rcm_pin.catalog.table import get_entry
+from rcm_pin.design.metrics import metric_source
 from rcm_pin.design.study import Design
 from rcm_pin.errors import RcmPinError
 from rcm_pin.model.resources import xacro_dir
@@ -48,7 +49,7 @@ def evaluate(design: Design, metrics: tuple[str, ...]) -> dict[str, Any]:
     row.update({f"arg.{k}": float(v) for k, v in design.args})
     try:
         mech = load(design.mechanism, **dict(design.args))
-        available = mech.family.design_metrics()
+        available = metric_source(mech.family).metrics()
         for name in metrics:
             row[name] = float(available[name].evaluate(mech))
         row["status"] = OK

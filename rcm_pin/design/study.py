@@ -2,7 +2,7 @@
 
 A *design* is a catalogue mechanism plus xacro arguments. A *study* varies some arguments
 over ranges (``Vary``), keeps others fixed, and asks the family's metrics
-(:meth:`rcm_pin.model.family.Family.design_metrics`) of every design. Samplers:
+(:func:`rcm_pin.design.metrics.metric_source`) of every design. Samplers:
 
 * ``grid``: the Cartesian product of ``n`` equally spaced values per argument (ends
   included);
@@ -26,8 +26,9 @@ from typing import Literal
 import numpy as np
 
 from rcm_pin.catalog.table import get_entry
+from rcm_pin.design.metrics import metric_source
 from rcm_pin.errors import InvalidInputError, UnknownMechanismError, XacroArgumentError
-from rcm_pin.model.metric import DesignMetric
+from rcm_pin.interfaces.design import DesignMetric
 from rcm_pin.model.xacro_ranges import ArgSpec, declared_specs
 
 Sampler = Literal["grid", "lhs", "random"]
@@ -161,7 +162,7 @@ def validate(study: Study) -> Study:
             )
     for v in study.vary:
         _check_range(v, specs[v.arg], entry.xacro)
-    available = entry.family.design_metrics()
+    available = metric_source(entry.family).metrics()
     if not available:
         raise InvalidInputError(f"{study.mechanism}'s family has no design metrics")
     wanted = list(study.metrics) + [c.metric for c in study.constraints]

@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from rcm_pin.errors import InvalidInputError
+from rcm_pin.interfaces.viz import Assets
 from rcm_pin.model.family import Family
 from rcm_pin.model.mechanism import Mechanism
 
@@ -54,11 +55,20 @@ def urdf_path(name: str) -> Callable[[], Path]:
     return path
 
 
+class ArmAssets(Assets):
+    """The meshes of example-robot-data."""
+
+    def mesh_dirs(self, mech: Mechanism) -> tuple[str, ...]:
+        """The ``share`` folder that holds the ``example-robot-data`` package."""
+        return (str(robots_dir().parent.parent),)
+
+
 class ArmFamily(Family):
     """Serial arms: numeric routes only; ``home`` from the SRDF or a regular posture."""
 
     name = "arm"
     description = "ordinary serial arms (example-robot-data)"
+    capabilities = (ArmAssets(),)
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
         """``home``: the SRDF's ``default`` state (panda), the UR "up" pose (ur5), else the
@@ -80,10 +90,6 @@ class ArmFamily(Family):
             hi = np.where(np.isfinite(mech.upper), mech.upper, np.pi)
             out["home"] = 0.5 * (lo + hi)
         return out
-
-    def mesh_dirs(self, mech: Mechanism) -> list[str]:
-        """The ``share`` folder that holds the ``example-robot-data`` package."""
-        return [str(robots_dir().parent.parent)]
 
 
 FAMILY = ArmFamily()

@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from rcm_pin.analysis.capabilities import Assemblies, Branches, NumericPosition
+from rcm_pin.analysis.workspace import WorkspaceModel
 from rcm_pin.control.capabilities import DefaultScenarios
 from rcm_pin.control.references import QuinticPath
 from rcm_pin.errors import UnreachablePoseError
@@ -205,16 +206,50 @@ class FiveBarScenarios(DefaultScenarios):
         }
 
 
+class FiveBarWorkspace(WorkspaceModel):
+    """The point workspace of P [m²] on an n × n grid; det A / det B over it."""
+
+    options = ("n",)
+
+    def summary(
+        self, mech: Mechanism, samples: int | None, seed: int, **options: Any
+    ) -> dict[str, Any]:
+        n = int(options.get("n", 121))
+        g = geometry(mech)
+        x, y = point_grid(g, n)
+        ok = inverse_position(g, np.stack(np.meshgrid(x, y), axis=-1))[1]
+        cell = float((x[1] - x[0]) * (y[1] - y[0]))
+        area = float(ok.sum()) * cell
+        return {
+            "phi": None,
+            "phi_range": None,
+            "orientations": 1,
+            "grid": n,
+            "cell_area": cell,
+            "constant_orientation_area": area,
+            "total_area": area,
+            "reachable_area": area,
+        }
+
+    def plot(self, mech: Mechanism, path: Path, samples: int, seed: int, **options: Any) -> Path:
+        """det A / det B of the main drives over the point workspace (mode ``+-``)."""
+        from rcm_pin.analysis.maps import plot_singularity_map, singularity_map
+
+        return plot_singularity_map(
+            singularity_map(mech, mode=1, n=int(options.get("n", 121))), path
+        )
+
+
 class FiveBarFamily(Family):
     """Hooks of the five-bar: working and assembly modes, A/B of the main drives."""
 
     name = "five_bar"
     description = "planar five-bar RR-RR with extra drives (paper 004 Fig. 13)"
     closed = True
-    workspace_options = ("n",)
     capabilities = (
         FiveBarPosition(),
         FiveBarScenarios(),
+        FiveBarWorkspace(),
     )
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
@@ -244,33 +279,6 @@ class FiveBarFamily(Family):
         db = np.linalg.det(b_mat) / (4 * np.prod(g.l1) * np.prod(g.l2))
         da[~ok], db[~ok] = np.nan, np.nan
         return {"x": x, "y": y, "det_A": da, "det_B": db, "mode": MODES[mode], "phi": None}
-
-    def workspace_summary(self, mech: Mechanism, **options: Any) -> dict[str, Any]:
-        """The point workspace of P [m²] on an n × n grid."""
-        n = int(options.get("n", 121))
-        g = geometry(mech)
-        x, y = point_grid(g, n)
-        ok = inverse_position(g, np.stack(np.meshgrid(x, y), axis=-1))[1]
-        cell = float((x[1] - x[0]) * (y[1] - y[0]))
-        area = float(ok.sum()) * cell
-        return {
-            "phi": None,
-            "phi_range": None,
-            "orientations": 1,
-            "grid": n,
-            "cell_area": cell,
-            "constant_orientation_area": area,
-            "total_area": area,
-            "reachable_area": area,
-        }
-
-    def plot_workspace(self, mech: Mechanism, path: Path, **options: Any) -> Path:
-        """det A / det B of the main drives over the point workspace (mode ``+-``)."""
-        from rcm_pin.analysis.maps import plot_singularity_map, singularity_map
-
-        return plot_singularity_map(
-            singularity_map(mech, mode=1, n=int(options.get("n", 121))), path
-        )
 
 
 FAMILY = FiveBarFamily()

@@ -29,7 +29,9 @@ from typing import Any
 import numpy as np
 
 from rcm_pin.analysis.capabilities import Assemblies, Branches, NumericPosition
+from rcm_pin.analysis.workspace import NumericWorkspace
 from rcm_pin.errors import UnreachablePoseError
+from rcm_pin.interfaces.design import DesignMetric, MetricSource
 from rcm_pin.linkage.fourbar import (
     FourBar,
     coupler_angle,
@@ -123,33 +125,34 @@ class FourBarPosition(NumericPosition):
         return MODES
 
 
-class FourBarFamily(Family):
-    """Hooks of the four-bar: both assembly and working modes, A/B, the rocker's swing."""
+class FourBarWorkspace(NumericWorkspace):
+    """The rocker's range and swing, the Grashof class, the transmission-angle range (no
+    options); the sampled figure."""
 
-    name = "four_bar"
-    description = "planar four-bar linkages (paper 002)"
-    closed = True
-    workspace_options: tuple[str, ...] = ()
-    capabilities = (FourBarPosition(),)
+    options = ()
 
-    def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
-        """``home``: crank along the frame line (q1 = 0), rocker above it."""
+    def summary(
+        self, mech: Mechanism, samples: int | None, seed: int, **options: Any
+    ) -> dict[str, Any]:
         g = geometry(mech)
-        psi = max(direct_position(g, 0.0))
-        return {"home": full_q(g, 0.0, psi)}
+        lo, hi = rocker_range(g)
+        mu = transmission_angle(g, np.linspace(-np.pi, np.pi, 3601))
+        return {
+            "rocker_min": lo,
+            "rocker_max": hi,
+            "swing": hi - lo,
+            "grashof": g.grashof,
+            "crank_rocker": g.crank_rocker,
+            "transmission_angle_min": float(mu.min()),
+            "transmission_angle_max": float(mu.max()),
+        }
 
-    def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """A / (2 l2 l3) and B / (2 l1 l2) (dimensionless)."""
-        g, loops = geometry(mech), mech.require_loops()
-        psi = float(mech.output_value(q)[0])
-        a_mat, b_mat = ab_matrices(g, float(q[loops.drive_q[0]]), psi)
-        return a_mat / (2.0 * g.l2 * g.l3), b_mat / (2.0 * g.l1 * g.l2)
 
-    def design_metrics(self) -> dict[str, Any]:
-        """Swing, worst transmission angle and time ratio over a crank turn (NaN unless a
-        crank–rocker), by :func:`rcm_pin.linkage.fourbar.performance`."""
-        from rcm_pin.model.metric import DesignMetric
+class FourBarMetrics(MetricSource):
+    """Swing, worst transmission angle and time ratio over a crank turn (NaN unless a
+    crank–rocker), by :func:`rcm_pin.linkage.fourbar.performance`."""
 
+    def metrics(self) -> dict[str, DesignMetric]:
         def perf(mech: Mechanism) -> Any:
             return performance(geometry(mech))
 
@@ -177,20 +180,31 @@ class FourBarFamily(Family):
             )
         }
 
-    def workspace_summary(self, mech: Mechanism, **options: Any) -> dict[str, Any]:
-        """The rocker's range and swing, the Grashof class, the transmission-angle range."""
+
+class FourBarFamily(Family):
+    """Hooks of the four-bar: both assembly and working modes, A/B, the rocker's swing."""
+
+    name = "four_bar"
+    description = "planar four-bar linkages (paper 002)"
+    closed = True
+    capabilities = (
+        FourBarPosition(),
+        FourBarWorkspace(),
+        FourBarMetrics(),
+    )
+
+    def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
+        """``home``: crank along the frame line (q1 = 0), rocker above it."""
         g = geometry(mech)
-        lo, hi = rocker_range(g)
-        mu = transmission_angle(g, np.linspace(-np.pi, np.pi, 3601))
-        return {
-            "rocker_min": lo,
-            "rocker_max": hi,
-            "swing": hi - lo,
-            "grashof": g.grashof,
-            "crank_rocker": g.crank_rocker,
-            "transmission_angle_min": float(mu.min()),
-            "transmission_angle_max": float(mu.max()),
-        }
+        psi = max(direct_position(g, 0.0))
+        return {"home": full_q(g, 0.0, psi)}
+
+    def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """A / (2 l2 l3) and B / (2 l1 l2) (dimensionless)."""
+        g, loops = geometry(mech), mech.require_loops()
+        psi = float(mech.output_value(q)[0])
+        a_mat, b_mat = ab_matrices(g, float(q[loops.drive_q[0]]), psi)
+        return a_mat / (2.0 * g.l2 * g.l3), b_mat / (2.0 * g.l1 * g.l2)
 
 
 FAMILY = FourBarFamily()

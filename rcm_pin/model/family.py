@@ -4,8 +4,10 @@ Generic algorithms (``rcm_pin.analysis``, ``dynamics``, ``control``, ``viz``) ne
 mechanism's name. They ask the mechanism's :class:`Family` for a hook; a hook that returns
 ``None`` means "this family has no closed form here", and the generic numeric route runs.
 Each family module in ``rcm_pin.mechanisms`` subclasses :class:`Family` and overrides the
-hooks its papers give (analytic position problems, the paper's A and B matrices, named
-singularity causes, workspace summaries, ...).
+hooks its papers give (the paper's A and B matrices, named singularity causes, ...).
+Concerns moved to typed capabilities (position problems, reference poses, task kinematics,
+scenarios and stop events, workspace, design metrics, mesh folders) are listed in
+:attr:`Family.capabilities` instead, each resolved by the layer that consumes it.
 
 The base class is also the family of a URDF loaded by path that names no family.
 """
@@ -13,14 +15,12 @@ The base class is also the family of a URDF loaded by path that names no family.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from pathlib import Path
 from typing import TYPE_CHECKING, Any, TypeVar
 
 import numpy as np
 
 if TYPE_CHECKING:
     from rcm_pin.model.mechanism import Mechanism
-    from rcm_pin.model.metric import DesignMetric
 
 
 T = TypeVar("T")
@@ -66,9 +66,6 @@ class Family:
     description = "any URDF: numeric routes only"
     #: Whether the family's mechanisms have loop closures.
     closed = False
-    #: Options of ``rcm-pin workspace`` its workspace uses (``samples``, ``n``, ``phi``,
-    #: ``phi_range``); the others are refused, never ignored. The numeric route samples.
-    workspace_options: tuple[str, ...] = ("samples",)
 
     #: The family's implementations of capabilities the consuming layers define (e.g.
     #: ``rcm_pin.analysis.capabilities.PositionSolver``); each layer's resolver takes the
@@ -99,19 +96,6 @@ class Family:
         """A vectorised closed-form map of the singularity measures over the workspace."""
         return None
 
-    # ---------------------------------------------------------------- workspace
-    def workspace_summary(self, mech: Mechanism, **options: Any) -> dict[str, Any] | None:
-        """Closed-form workspace figures (volumes, areas, the rig specification)."""
-        return None
-
-    def plot_workspace(self, mech: Mechanism, path: Path, **options: Any) -> Path | None:
-        """A PNG of the workspace drawn from the closed forms."""
-        return None
-
-    def mesh_dirs(self, mech: Mechanism) -> list[str]:
-        """Folders that resolve the URDF's ``package://`` mesh paths (for the viewer)."""
-        return []
-
     # ---------------------------------------------------------------- accuracy
     def accuracy_parameters(self, mech: Mechanism) -> tuple[str, ...]:
         """xacro arguments that enter the kinematics (design-error variables)."""
@@ -120,11 +104,6 @@ class Family:
     def accuracy_report(self, mech: Mechanism, q: np.ndarray) -> dict[str, Any] | None:
         """The family's own accuracy table (None: the generic placement sensitivities)."""
         return None
-
-    # ---------------------------------------------------------------- design
-    def design_metrics(self) -> dict[str, DesignMetric]:
-        """Figures of merit of a whole design, by name (:mod:`rcm_pin.design` sweeps them)."""
-        return {}
 
 
 __all__ = ["Branch", "Cause", "Family"]

@@ -19,6 +19,7 @@ import numpy as np
 import rcm_pin
 from rcm_pin.analysis.loop_velocity import classify, velocity_matrices
 from rcm_pin.analysis.screws import leg_twists, screw_test
+from rcm_pin.analysis.workspace import workspace_model
 from rcm_pin.mechanisms import translational_3ppapa as tp
 from rcm_pin.mechanisms.translational_3ppapa import accuracy as acc
 from rcm_pin.mechanisms.translational_3ppapa import verdicts as vd
@@ -149,7 +150,7 @@ def _workspace(mm: Mechanism, g: tp.Geometry3PPaPa, out_dir: Path) -> tuple[list
             f"| {v['standard_error'][key].max():.4f} | {gr.min():.4f}–{gr.max():.4f} |"
         )
     png = f"{STEM}_sections.png"
-    tp.FAMILY.plot_workspace(mm, out_dir / png)
+    workspace_model(mm).plot(mm, out_dir / png, 200_000, 0)
     lines += [
         "",
         f"![sections]({png})",

@@ -1,8 +1,8 @@
 """Triangle meshes of a mechanism's scene at a configuration, for the no-browser picture.
 
 :func:`body_meshes` triangulates the URDF's visual geometry (Pinocchio's visual
-``GeometryModel`` on the mimic model, ``package://`` meshes found in
-``mech.family.mesh_dirs(mech)``): boxes, cylinders, spheres, capsules, cones and
+``GeometryModel`` on the mimic model, ``package://`` meshes found in the folders of
+:func:`rcm_pin.viz.assets.assets`): boxes, cylinders, spheres, capsules, cones and
 ellipsoids from their coal shapes, meshes from coal's vertices and triangles, any other
 shape as its local bounding box. Each is placed by ``pin.updateGeometryPlacements`` and
 coloured by its URDF material. A mechanism without visual geometry gets grey rods between
@@ -22,6 +22,7 @@ import pinocchio as pin
 
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.viz import overlays as ov
+from rcm_pin.viz.assets import assets
 
 #: Segments around a circle of a cylinder, cone or sphere.
 SEGMENTS = 24
@@ -110,7 +111,7 @@ def shape_triangles(geometry: Any) -> tuple[np.ndarray, np.ndarray]:
 
 def visual_model(mech: Mechanism) -> pin.GeometryModel:
     """The visual GeometryModel of the mechanism's URDF on its (mimic) model."""
-    dirs = list(mech.family.mesh_dirs(mech))
+    dirs = list(assets(mech).mesh_dirs(mech))
     return pin.buildGeomFromUrdfString(
         mech.model, mech.urdf, pin.GeometryType.VISUAL, package_dirs=dirs
     )

@@ -3,13 +3,14 @@
 One :class:`Viewer` for serial and closed mechanisms. It wraps Pinocchio's
 ``MeshcatVisualizer`` on the *mimic* model (visual geometry parsed with
 ``pin.buildGeomFromUrdfString(mech.model, ...)``, ``package://`` meshes found in
-``mech.family.mesh_dirs(mech)``), so transmission bodies follow their primary joints and
-the arms of example-robot-data show their meshes. It shows a configuration (Mechanism
-coordinates; for a closed mechanism a full closed configuration), or the configuration
-of an input vector (:meth:`Viewer.display_inputs`: coordinates of a serial mechanism,
-drive values of a closed one, whose loops are closed by :func:`rcm_pin.forward`),
-animates trajectories, draws the markers of :mod:`rcm_pin.viz.overlays` and coloured
-point sets, and exports a self-contained static HTML page.
+the folders of :func:`rcm_pin.viz.assets.assets`), so transmission bodies follow their
+primary joints and the arms of example-robot-data show their meshes. It shows a
+configuration (Mechanism coordinates; for a closed mechanism a full closed configuration),
+or the configuration of an input vector (:meth:`Viewer.display_inputs`: coordinates of a
+serial mechanism, drive values of a closed one, whose loops are closed by
+:func:`rcm_pin.forward`), animates trajectories, draws the markers of
+:mod:`rcm_pin.viz.overlays` and coloured point sets, and exports a self-contained static
+HTML page.
 
 By default the scene lives in memory (:class:`rcm_pin.viz.scene.SceneRecorder`): no
 process, no port, no browser, same HTML as ``meshcat-server`` writes. With
@@ -34,6 +35,7 @@ from rcm_pin.errors import InvalidInputError
 from rcm_pin.model.constraints import plane_normal
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.viz import overlays as ov
+from rcm_pin.viz.assets import assets
 from rcm_pin.viz.base import OVERLAYS, MeshcatScene
 from rcm_pin.viz.camera import box_corners, frame_points, plane_basis, project
 
@@ -73,7 +75,7 @@ class Viewer(ov.OverlaysMixin, MeshcatScene):
     def __init__(self, mech: Mechanism, *, server: bool = False, zmq_url: str | None = None,
                  snapshot_style: bool = False, markers: bool = True) -> None:  # fmt: skip
         self.mech = mech
-        self._open(mech.model, mech.urdf, package_dirs=mech.family.mesh_dirs(mech),
+        self._open(mech.model, mech.urdf, package_dirs=list(assets(mech).mesh_dirs(mech)),
                    server=server, zmq_url=zmq_url, snapshot_style=snapshot_style)  # fmt: skip
         self._data = mech.model.createData()
         self._points: dict[str, int] = {}

@@ -17,8 +17,10 @@ from typing import Any
 import numpy as np
 
 from rcm_pin.analysis.capabilities import Assemblies, Branches, NumericPosition
+from rcm_pin.analysis.workspace import WorkspaceModel
 from rcm_pin.control.capabilities import DefaultScenarios
 from rcm_pin.errors import InvalidInputError, UnreachablePoseError
+from rcm_pin.interfaces.design import DesignMetric, MetricSource
 from rcm_pin.mechanisms.planar_3rrr import closed_form as p3
 from rcm_pin.model.family import Branch, Family
 from rcm_pin.model.mechanism import Mechanism
@@ -100,50 +102,14 @@ class Planar3RRRScenarios(DefaultScenarios):
         }
 
 
-class Planar3RRRFamily(Family):
-    """Hooks of the planar 3-RRR (module docstring)."""
+class Planar3RRRWorkspace(WorkspaceModel):
+    """Constant-orientation, total and reachable areas [m²] on an n × n grid; the figure."""
 
-    name = "planar_3rrr"
-    description = "planar 3-RRR parallel mechanisms (paper 004)"
-    closed = True
-    workspace_options = ("n", "phi", "phi_range")
-    capabilities = (
-        Planar3RRRPosition(),
-        Planar3RRRScenarios(),
-    )
+    options = ("n", "phi", "phi_range")
 
-    def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
-        """``home``: the platform centred at the origin, φ = 0, working mode ``+++``."""
-        from rcm_pin.analysis.position import inverse
-
-        return {"home": inverse(mech, np.zeros(3)).solutions[0].q}
-
-    def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Normalised A and B of the loop equations (:func:`normalised_ab`)."""
-        return normalised_ab(geometry(mech), *_pose_and_drives(mech, q))
-
-    def singularity_map(self, mech: Mechanism, **options: Any) -> dict[str, Any]:
-        """Normalised det A and det B over the constant-orientation workspace of one
-        working mode (options ``mode``, ``phi`` [rad], ``n``)."""
-        from rcm_pin.mechanisms.planar_3rrr import workspace as ws
-
-        mode, phi, n = (
-            int(options.get("mode") or 0),
-            float(options.get("phi", 0.0)),
-            int(options.get("n", 121)),
-        )
-        grid = ws.Grid.around(geometry(mech), n)
-        da, db = ws.det_maps(geometry(mech), grid, phi, mode)
-        return {"x": grid.x, "y": grid.y, "det_A": da, "det_B": db, "mode": MODES[mode], "phi": phi}
-
-    def design_metrics(self) -> dict[str, Any]:
-        """Regular workspace area and conditioning of a design (:mod:`.design`)."""
-        from rcm_pin.mechanisms.planar_3rrr.design import METRICS
-
-        return dict(METRICS)
-
-    def workspace_summary(self, mech: Mechanism, **options: Any) -> dict[str, Any]:
-        """Constant-orientation, total and reachable areas [m²] on an n × n grid."""
+    def summary(
+        self, mech: Mechanism, samples: int | None, seed: int, **options: Any
+    ) -> dict[str, Any]:
         from rcm_pin.mechanisms.planar_3rrr import workspace as ws
 
         phi = float(options.get("phi", 0.0))
@@ -181,13 +147,60 @@ class Planar3RRRFamily(Family):
             "reachable_area": float((count > 0).sum()) * cell,
         }
 
-    def plot_workspace(self, mech: Mechanism, path: Path, **options: Any) -> Path:
+    def plot(self, mech: Mechanism, path: Path, samples: int, seed: int, **options: Any) -> Path:
         """Workspace with type-1/type-2 curves and the total-orientation map."""
         from rcm_pin.mechanisms.planar_3rrr.plots import workspace_figure
 
         return workspace_figure(
             geometry(mech), Path(path), float(options.get("phi", 0.0)), n=int(options.get("n", 121))
         )
+
+
+class Planar3RRRMetrics(MetricSource):
+    """Regular workspace area and conditioning of a design (:mod:`.design`)."""
+
+    def metrics(self) -> dict[str, DesignMetric]:
+        from rcm_pin.mechanisms.planar_3rrr.design import METRICS
+
+        return dict(METRICS)
+
+
+class Planar3RRRFamily(Family):
+    """Hooks of the planar 3-RRR (module docstring)."""
+
+    name = "planar_3rrr"
+    description = "planar 3-RRR parallel mechanisms (paper 004)"
+    closed = True
+    capabilities = (
+        Planar3RRRPosition(),
+        Planar3RRRScenarios(),
+        Planar3RRRWorkspace(),
+        Planar3RRRMetrics(),
+    )
+
+    def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
+        """``home``: the platform centred at the origin, φ = 0, working mode ``+++``."""
+        from rcm_pin.analysis.position import inverse
+
+        return {"home": inverse(mech, np.zeros(3)).solutions[0].q}
+
+    def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Normalised A and B of the loop equations (:func:`normalised_ab`)."""
+        return normalised_ab(geometry(mech), *_pose_and_drives(mech, q))
+
+    def singularity_map(self, mech: Mechanism, **options: Any) -> dict[str, Any]:
+        """Normalised det A and det B over the constant-orientation workspace of one
+        working mode (options ``mode``, ``phi`` [rad], ``n``)."""
+        from rcm_pin.mechanisms.planar_3rrr import workspace as ws
+
+        mode, phi, n = (
+            int(options.get("mode") or 0),
+            float(options.get("phi", 0.0)),
+            int(options.get("n", 121)),
+        )
+        grid = ws.Grid.around(geometry(mech), n)
+        da, db = ws.det_maps(geometry(mech), grid, phi, mode)
+        return {"x": grid.x, "y": grid.y, "det_A": da, "det_B": db, "mode": MODES[mode], "phi": phi}
 
 
 FAMILY = Planar3RRRFamily()

@@ -19,11 +19,11 @@ from __future__ import annotations
 import numpy as np
 from scipy import ndimage
 
+from rcm_pin.interfaces.design import DesignMetric
 from rcm_pin.mechanisms.planar_3rrr import closed_form as p3
 from rcm_pin.mechanisms.planar_3rrr import geometry, normalised_ab
 from rcm_pin.mechanisms.planar_3rrr.workspace import Grid
 from rcm_pin.model.mechanism import Mechanism
-from rcm_pin.model.metric import DesignMetric
 
 #: Smallest |det A_n|, |det B_n| of a regular pose.
 MARGIN = 0.05

@@ -22,12 +22,14 @@ from typing import Any
 import numpy as np
 
 from rcm_pin.analysis.capabilities import Branches, NumericPosition, ReferencePoses
+from rcm_pin.analysis.workspace import WorkspaceModel
 from rcm_pin.control.capabilities import (
     FrameJacobianTask,
     ScenarioSource,
     StopEvent,
     TaskKinematics,
 )
+from rcm_pin.interfaces.design import DesignMetric, MetricSource
 from rcm_pin.model.family import Branch, Cause, Family
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import Output
@@ -119,6 +121,32 @@ class RcmScenarios(ScenarioSource):
         )
 
 
+class RcmWorkspace(WorkspaceModel):
+    """Volume by three routes, the rig specification, the boundary faces (:mod:`.workspace`)."""
+
+    def summary(
+        self, mech: Mechanism, samples: int | None, seed: int, **options: Any
+    ) -> dict[str, Any]:
+        from rcm_pin.mechanisms.rcm.workspace import summary
+
+        return summary(mech, 200_000 if samples is None else samples, seed)
+
+    def plot(self, mech: Mechanism, path: Path, samples: int, seed: int, **options: Any) -> Path:
+        """Sections like paper 000 Fig. 7 with the rig specification overlaid."""
+        from rcm_pin.mechanisms.rcm.workspace import plot_sections
+
+        return plot_sections(mech, path, samples, seed)
+
+
+class RcmMetrics(MetricSource):
+    """Rig coverage, conditioning and RCM drift of a design (:mod:`.design`)."""
+
+    def metrics(self) -> dict[str, DesignMetric]:
+        from rcm_pin.mechanisms.rcm.design import METRICS
+
+        return dict(METRICS)
+
+
 class RcmFamily(Family):
     """Hooks of the RCM mechanisms (module docstring)."""
 
@@ -129,6 +157,8 @@ class RcmFamily(Family):
         RcmPoses(),
         RcmTask(),
         RcmScenarios(),
+        RcmWorkspace(),
+        RcmMetrics(),
     )
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
@@ -149,20 +179,6 @@ class RcmFamily(Family):
 
         return classify(mech, q)
 
-    def workspace_summary(self, mech: Mechanism, **options: Any) -> dict[str, Any] | None:
-        """Volume by three routes, the rig specification, the boundary faces."""
-        from rcm_pin.mechanisms.rcm.workspace import summary
-
-        return summary(mech, int(options.get("samples", 200_000)), int(options.get("seed", 0)))
-
-    def plot_workspace(self, mech: Mechanism, path: Path, **options: Any) -> Path | None:
-        """Sections like paper 000 Fig. 7 with the rig specification overlaid."""
-        from rcm_pin.mechanisms.rcm.workspace import plot_sections
-
-        return plot_sections(
-            mech, path, int(options.get("samples", 200_000)), int(options.get("seed", 0))
-        )
-
     def accuracy_parameters(self, mech: Mechanism) -> tuple[str, ...]:
         """The kinematic xacro arguments of the variant (bevel: tooth counts; belt: pulleys)."""
         if mech.rebuild is None:
@@ -178,12 +194,6 @@ class RcmFamily(Family):
         from rcm_pin.mechanisms.rcm.accuracy import report
 
         return report(mech, q)
-
-    def design_metrics(self) -> dict[str, Any]:
-        """Rig coverage, conditioning and RCM drift of a design (:mod:`.design`)."""
-        from rcm_pin.mechanisms.rcm.design import METRICS
-
-        return dict(METRICS)
 
 
 FAMILY = RcmFamily()

@@ -30,11 +30,11 @@ from __future__ import annotations
 import numpy as np
 
 from rcm_pin.errors import InvalidInputError
+from rcm_pin.interfaces.design import DesignMetric
 from rcm_pin.mechanisms.rcm import PLACEMENT_JOINTS
 from rcm_pin.mechanisms.rcm.accuracy import COMPONENTS, placement_sensitivity
 from rcm_pin.mechanisms.rcm.workspace import SPEC_HALF_ANGLE, max_contained_cone, spec_check
 from rcm_pin.model.mechanism import Mechanism
-from rcm_pin.model.metric import DesignMetric
 from rcm_pin.rotations import FloatArray
 
 #: Standard deviations of the placement errors of the drift metric.

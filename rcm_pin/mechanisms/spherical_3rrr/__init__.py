@@ -46,7 +46,9 @@ from typing import Any
 import numpy as np
 
 from rcm_pin.analysis.capabilities import Assemblies, Branches, NumericPosition
+from rcm_pin.analysis.workspace import WorkspaceModel
 from rcm_pin.errors import SingularConfigurationError, UnreachablePoseError
+from rcm_pin.interfaces.design import DesignMetric, MetricSource
 from rcm_pin.mechanisms.spherical_3rrr import accuracy, direct
 from rcm_pin.mechanisms.spherical_3rrr import closed_form as sc
 from rcm_pin.model.family import Branch, Family
@@ -123,38 +125,20 @@ class Spherical3RRRPosition(NumericPosition):
         return MODES
 
 
-class Spherical3RRRFamily(Family):
-    """Hooks of the spherical 3-RRR (module docstring)."""
+class Spherical3RRRWorkspace(WorkspaceModel):
+    """Reachable share of ``samples`` (≤ 20 000) random orientations; for the Agile Eye the
+    largest singularity-free tilt cone about the symmetry axis [deg] for torsion half-ranges
+    0°, 30°, …, 180° (:mod:`.workspace`, the curve route); the singularity maps."""
 
-    name = "spherical_3rrr"
-    description = "spherical 3-RRR parallel mechanisms, Agile Eye (paper 004)"
-    closed = True
-    capabilities = (Spherical3RRRPosition(),)
-
-    def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
-        """``home``: R = I, φ = 0, working mode ``+++`` (every joint angle 0)."""
-        return {"home": full_q(mech, np.eye(3), np.zeros(3))}
-
-    def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Normalised A and B of the loop equations (:func:`normalised_ab`)."""
-        return normalised_ab(geometry(mech), *pose_and_drives(mech, q))
-
-    def design_metrics(self) -> dict[str, Any]:
-        """Regular share of SO(3) and conditioning of a design (:mod:`.design`)."""
-        from rcm_pin.mechanisms.spherical_3rrr.design import METRICS
-
-        return dict(METRICS)
-
-    def workspace_summary(self, mech: Mechanism, **options: Any) -> dict[str, Any]:
-        """Reachable share of ``samples`` (≤ 20 000) random orientations; for the Agile Eye
-        the largest singularity-free tilt cone about the symmetry axis [deg] for torsion
-        half-ranges 0°, 30°, …, 180° (:mod:`.workspace`, the curve route)."""
+    def summary(
+        self, mech: Mechanism, samples: int | None, seed: int, **options: Any
+    ) -> dict[str, Any]:
         from rcm_pin.mechanisms.spherical_3rrr import maps, workspace
         from rcm_pin.rotations import random_rotations
 
         g = geometry(mech)
-        n_rot = min(int(options.get("samples", 20_000)), 20_000)
-        rots = random_rotations(np.random.default_rng(int(options.get("seed", 0))), n_rot)
+        n_rot = 20_000 if samples is None else min(samples, 20_000)
+        rots = random_rotations(np.random.default_rng(seed), n_rot)
         reach = float(np.mean(np.all(sc.leg_roots(g, rots)[1] >= -sc.DELTA_TOL, axis=1)))
         out: dict[str, Any] = {"orientations": n_rot, "reachable_share": reach}
         if g.agile_eye:
@@ -165,11 +149,41 @@ class Spherical3RRRFamily(Family):
                 out[f"cone_deg_torsion_{sig}"] = float(np.degrees(cone)) if cone > 1e-9 else 0.0
         return out
 
-    def plot_workspace(self, mech: Mechanism, path: Path, **options: Any) -> Path | None:
+    def plot(self, mech: Mechanism, path: Path, samples: int, seed: int, **options: Any) -> Path:
         """The singularity maps (tilt, azimuth × torsion) of working mode ``mode``."""
         from rcm_pin.mechanisms.spherical_3rrr import plots
 
         return plots.maps_figure(geometry(mech), Path(path), mode=int(options.get("mode") or 0))
+
+
+class Spherical3RRRMetrics(MetricSource):
+    """Regular share of SO(3) and conditioning of a design (:mod:`.design`)."""
+
+    def metrics(self) -> dict[str, DesignMetric]:
+        from rcm_pin.mechanisms.spherical_3rrr.design import METRICS
+
+        return dict(METRICS)
+
+
+class Spherical3RRRFamily(Family):
+    """Hooks of the spherical 3-RRR (module docstring)."""
+
+    name = "spherical_3rrr"
+    description = "spherical 3-RRR parallel mechanisms, Agile Eye (paper 004)"
+    closed = True
+    capabilities = (
+        Spherical3RRRPosition(),
+        Spherical3RRRWorkspace(),
+        Spherical3RRRMetrics(),
+    )
+
+    def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
+        """``home``: R = I, φ = 0, working mode ``+++`` (every joint angle 0)."""
+        return {"home": full_q(mech, np.eye(3), np.zeros(3))}
+
+    def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Normalised A and B of the loop equations (:func:`normalised_ab`)."""
+        return normalised_ab(geometry(mech), *pose_and_drives(mech, q))
 
     def accuracy_parameters(self, mech: Mechanism) -> tuple[str, ...]:
         """The link angles θ_i1, θ_i2 (xacro arguments, the paper's error variables)."""

@@ -18,9 +18,9 @@ from __future__ import annotations
 import numpy as np
 from scipy.spatial.transform import Rotation
 
+from rcm_pin.interfaces.design import DesignMetric
 from rcm_pin.mechanisms.spherical_3rrr import geometry, maps
 from rcm_pin.model.mechanism import Mechanism
-from rcm_pin.model.metric import DesignMetric
 
 #: Smallest measure of a regular orientation.
 MARGIN = 0.05

@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 
 from rcm_pin.analysis.capabilities import Assemblies, Branches, DefaultPoses, NumericPosition
+from rcm_pin.analysis.workspace import WorkspaceModel
 from rcm_pin.errors import InvalidInputError, UnreachablePoseError
 from rcm_pin.mechanisms.translational_3ppapa import accuracy
 from rcm_pin.mechanisms.translational_3ppapa.closed_form import (
@@ -130,13 +131,49 @@ class Translational3PPaPaPoses(DefaultPoses):
         return mech.configurations["regular"]
 
 
+class Translational3PPaPaWorkspace(WorkspaceModel):
+    """Reach and det-A-sign volumes per working mode (:mod:`.workspace`), Monte Carlo with
+    standard errors beside a grid (option ``grid``); sections through t*."""
+
+    def summary(
+        self, mech: Mechanism, samples: int | None, seed: int, **options: Any
+    ) -> dict[str, Any]:
+        from rcm_pin.mechanisms.translational_3ppapa import workspace as ws
+
+        samples = 200_000 if samples is None else samples
+        if not 1 <= samples <= ws.MAX_SAMPLES:
+            raise InvalidInputError(
+                f"{samples} workspace samples, each solved in all 64 working modes; valid: "
+                f"1..{ws.MAX_SAMPLES} (about 15 s of work at the most)"
+            )
+        return ws.volumes(
+            geometry(mech),
+            drive_limits(mech),
+            samples,
+            int(options.get("grid", 22)),
+            seed,
+        )
+
+    def plot(self, mech: Mechanism, path: Path, samples: int, seed: int, **options: Any) -> Path:
+        """Sections x, y, z = 0 and = t* (diagonal type-2 point) with the singular sets."""
+        from rcm_pin.mechanisms.translational_3ppapa.plots import sections_figure
+
+        g = geometry(mech)
+        mode = str(options.get("mode", MODES[0]))
+        return sections_figure(g, Path(path), diagonal_singularity(g), mode)
+
+
 class Translational3PPaPaFamily(Family):
     """Hooks of the 3-PPaPa: 64 working modes, assembly modes, A (paper) and B = I."""
 
     name = "translational_3ppapa"
     description = "translational 3-PPaPa parallel mechanism (paper 004 Fig. 4)"
     closed = True
-    capabilities = (Translational3PPaPaPosition(), Translational3PPaPaPoses())
+    capabilities = (
+        Translational3PPaPaPosition(),
+        Translational3PPaPaPoses(),
+        Translational3PPaPaWorkspace(),
+    )
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
         """``home``: P = 0, every crank along its drive axis; ``regular``: P at the paper's
@@ -148,33 +185,6 @@ class Translational3PPaPaFamily(Family):
     def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """A = ∂F/∂p from the crank angles and B = I (both dimensionless)."""
         return a_from_angles(crank_angles(mech, q)), np.eye(3)
-
-    def workspace_summary(self, mech: Mechanism, **options: Any) -> dict[str, Any]:
-        """Reach and det-A-sign volumes per working mode (:mod:`.workspace`), Monte Carlo
-        with standard errors beside a grid; options ``samples``, ``grid``, ``seed``."""
-        from rcm_pin.mechanisms.translational_3ppapa import workspace as ws
-
-        samples = int(options.get("samples", 20_000))
-        if not 1 <= samples <= ws.MAX_SAMPLES:
-            raise InvalidInputError(
-                f"{samples} workspace samples, each solved in all 64 working modes; valid: "
-                f"1..{ws.MAX_SAMPLES} (about 15 s of work at the most)"
-            )
-        return ws.volumes(
-            geometry(mech),
-            drive_limits(mech),
-            samples,
-            int(options.get("grid", 22)),
-            int(options.get("seed", 0)),
-        )
-
-    def plot_workspace(self, mech: Mechanism, path: Path, **options: Any) -> Path:
-        """Sections x, y, z = 0 and = t* (diagonal type-2 point) with the singular sets."""
-        from rcm_pin.mechanisms.translational_3ppapa.plots import sections_figure
-
-        g = geometry(mech)
-        mode = str(options.get("mode", MODES[0]))
-        return sections_figure(g, Path(path), diagonal_singularity(g), mode)
 
     def accuracy_parameters(self, mech: Mechanism) -> tuple[str, ...]:
         """The link lengths l1, l2, l3 (xacro ``side_1``, ``side_2``, ``offset``)."""

@@ -1,12 +1,14 @@
-"""A design metric: one number a family computes for a whole design (one Mechanism).
+"""Design metrics: one number a family computes for a whole design (one Mechanism).
 
 Design studies (:mod:`rcm_pin.design`) sweep xacro arguments and ask each design's family
-for its metrics through :meth:`rcm_pin.model.family.Family.design_metrics`. A metric is
+for its metrics through its :class:`MetricSource` (resolved by
+:func:`rcm_pin.design.metrics.metric_source`; the default has none). A metric is
 deterministic (seeded samples only), so a design gives the same figure on any worker.
 """
 
 from __future__ import annotations
 
+from abc import ABC, abstractmethod
 from collections.abc import Callable
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Literal
@@ -37,4 +39,12 @@ class DesignMetric:
     evaluate: Callable[[Mechanism], float]
 
 
-__all__ = ["DesignMetric", "Goal"]
+class MetricSource(ABC):
+    """A family's figures of merit of a whole design (:mod:`rcm_pin.design` sweeps them)."""
+
+    @abstractmethod
+    def metrics(self) -> dict[str, DesignMetric]:
+        """The metrics by name (a fresh dict; empty: the family has none)."""
+
+
+__all__ = ["DesignMetric", "Goal", "MetricSource"]
