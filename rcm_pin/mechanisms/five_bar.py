@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from rcm_pin.analysis.capabilities import Assemblies, Branches, NumericPosition
+from rcm_pin.analysis.singularity_model import ABMatrices, DetMap, NumericSingularity
 from rcm_pin.control.references import QuinticPath
 from rcm_pin.errors import UnreachablePoseError
 from rcm_pin.geometry import circle_points
@@ -176,6 +177,30 @@ class FiveBarPosition(NumericPosition):
         return MODES
 
 
+class FiveBarSingularity(NumericSingularity):
+    """A/B of the main drives from the loop equations, and their maps (no named causes)."""
+
+    def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> ABMatrices:
+        """Main-drive A / (2 l2_i) and B / (2 l1_i l2_i) (dimensionless determinants)."""
+        g = geometry(mech)
+        a_mat, b_mat = ab_matrices(g, mech.output_value(q), q[mech.require_loops().drive_q])
+        return ABMatrices(
+            a_mat / (2.0 * g.l2[:, None]), b_mat / (2.0 * (g.l1 * g.l2)[:, None]), paper=True
+        )
+
+    def workspace_map(self, mech: Mechanism, mode: int, phi: float, n: int) -> DetMap:
+        """Normalised det A, det B of the main drives over the point workspace."""
+        g = geometry(mech)
+        x, y = point_grid(g, n)
+        pts = np.stack(np.meshgrid(x, y), axis=-1)
+        qs, ok = inverse_position(g, pts)
+        a_mat, b_mat = ab_matrices(g, pts, np.nan_to_num(qs[..., mode, :]))
+        da = np.linalg.det(a_mat) / (4 * np.prod(g.l2))
+        db = np.linalg.det(b_mat) / (4 * np.prod(g.l1) * np.prod(g.l2))
+        da[~ok], db[~ok] = np.nan, np.nan
+        return DetMap(x, y, da, db, MODES[mode], None)
+
+
 class FiveBarFamily(Family):
     """Hooks of the five-bar: working and assembly modes, A/B of the main drives."""
 
@@ -183,7 +208,10 @@ class FiveBarFamily(Family):
     description = "planar five-bar RR-RR with extra drives (paper 004 Fig. 13)"
     closed = True
     workspace_options = ("n",)
-    capabilities = (FiveBarPosition(),)
+    capabilities = (
+        FiveBarPosition(),
+        FiveBarSingularity(),
+    )
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
         """``home``: P on the symmetry axis at 60 % of the reach, working mode ``++``."""
@@ -193,25 +221,6 @@ class FiveBarFamily(Family):
             mech.require_loops().params["proximal_1"] + mech.require_loops().params["distal_1"]
         )
         return {"home": inverse(mech, np.array([0.0, 0.6 * reach])).solutions[0].q}
-
-    def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Main-drive A / (2 l2_i) and B / (2 l1_i l2_i) (dimensionless determinants)."""
-        g = geometry(mech)
-        a_mat, b_mat = ab_matrices(g, mech.output_value(q), q[mech.require_loops().drive_q])
-        return a_mat / (2.0 * g.l2[:, None]), b_mat / (2.0 * (g.l1 * g.l2)[:, None])
-
-    def singularity_map(self, mech: Mechanism, **options: Any) -> dict[str, Any]:
-        """Normalised det A, det B of the main drives over the point workspace."""
-        mode, n = int(options.get("mode") or 0), int(options.get("n", 121))
-        g = geometry(mech)
-        x, y = point_grid(g, n)
-        pts = np.stack(np.meshgrid(x, y), axis=-1)
-        qs, ok = inverse_position(g, pts)
-        a_mat, b_mat = ab_matrices(g, pts, np.nan_to_num(qs[..., mode, :]))
-        da = np.linalg.det(a_mat) / (4 * np.prod(g.l2))
-        db = np.linalg.det(b_mat) / (4 * np.prod(g.l1) * np.prod(g.l2))
-        da[~ok], db[~ok] = np.nan, np.nan
-        return {"x": x, "y": y, "det_A": da, "det_B": db, "mode": MODES[mode], "phi": None}
 
     def workspace_summary(self, mech: Mechanism, **options: Any) -> dict[str, Any]:
         """The point workspace of P [m²] on an n × n grid."""

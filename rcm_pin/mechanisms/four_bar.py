@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from rcm_pin.analysis.capabilities import Assemblies, Branches, NumericPosition
+from rcm_pin.analysis.singularity_model import ABMatrices, NumericSingularity
 from rcm_pin.errors import UnreachablePoseError
 from rcm_pin.linkage.fourbar import (
     FourBar,
@@ -123,6 +124,17 @@ class FourBarPosition(NumericPosition):
         return MODES
 
 
+class FourBarSingularity(NumericSingularity):
+    """A/B of the loop equation (no named causes, the numeric map)."""
+
+    def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> ABMatrices:
+        """A / (2 l2 l3) and B / (2 l1 l2) (dimensionless)."""
+        g, loops = geometry(mech), mech.require_loops()
+        psi = float(mech.output_value(q)[0])
+        a_mat, b_mat = ab_matrices(g, float(q[loops.drive_q[0]]), psi)
+        return ABMatrices(a_mat / (2.0 * g.l2 * g.l3), b_mat / (2.0 * g.l1 * g.l2), paper=True)
+
+
 class FourBarFamily(Family):
     """Hooks of the four-bar: both assembly and working modes, A/B, the rocker's swing."""
 
@@ -130,20 +142,16 @@ class FourBarFamily(Family):
     description = "planar four-bar linkages (paper 002)"
     closed = True
     workspace_options: tuple[str, ...] = ()
-    capabilities = (FourBarPosition(),)
+    capabilities = (
+        FourBarPosition(),
+        FourBarSingularity(),
+    )
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
         """``home``: crank along the frame line (q1 = 0), rocker above it."""
         g = geometry(mech)
         psi = max(direct_position(g, 0.0))
         return {"home": full_q(g, 0.0, psi)}
-
-    def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """A / (2 l2 l3) and B / (2 l1 l2) (dimensionless)."""
-        g, loops = geometry(mech), mech.require_loops()
-        psi = float(mech.output_value(q)[0])
-        a_mat, b_mat = ab_matrices(g, float(q[loops.drive_q[0]]), psi)
-        return a_mat / (2.0 * g.l2 * g.l3), b_mat / (2.0 * g.l1 * g.l2)
 
     def design_metrics(self) -> dict[str, Any]:
         """Swing, worst transmission angle and time ratio over a crank turn (NaN unless a

@@ -4,8 +4,9 @@ Generic algorithms (``rcm_pin.analysis``, ``dynamics``, ``control``, ``viz``) ne
 mechanism's name. They ask the mechanism's :class:`Family` for a hook; a hook that returns
 ``None`` means "this family has no closed form here", and the generic numeric route runs.
 Each family module in ``rcm_pin.mechanisms`` subclasses :class:`Family` and overrides the
-hooks its papers give (analytic position problems, the paper's A and B matrices, named
-singularity causes, workspace summaries, stop conditions of simulations, ...).
+hooks its papers give (workspace summaries, stop conditions of simulations, ...) and lists
+its implementations of the capabilities the consuming layers define (``capabilities``:
+analytic position problems, the paper's A and B matrices, named singularity causes, ...).
 
 The base class is also the family of a URDF loaded by path that names no family.
 """
@@ -40,25 +41,6 @@ class Branch:
 
     q: np.ndarray
     label: str
-
-
-@dataclass(frozen=True)
-class Cause:
-    """A named singularity of a family at a configuration.
-
-    Attributes:
-        name: identifier (e.g. ``tool_centre_at_A``).
-        description: what happens.
-        condition: the equation of the singular set.
-        tasks: the Jacobians it makes rank-deficient (``full``, ``position``).
-        rank_loss: rank lost in the full Jacobian (alone).
-    """
-
-    name: str
-    description: str
-    condition: str
-    tasks: tuple[str, ...]
-    rank_loss: int
 
 
 #: A simulation stop condition: (description, g(t, q, v)); the run stops where g crosses 0.
@@ -115,21 +97,6 @@ class Family:
         """Named configurations (Mechanism coordinates); ``home`` is the default pose."""
         return {}
 
-    # ------------------------------------------------------- velocity and singularity
-    def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
-        """The paper's A, B (A ẋ = −B q̇_a) at a closed configuration, from its equations,
-        rows and columns scaled so that their determinants are dimensionless (for the
-        singular verdicts; −A⁻¹B of the scaled matrices is not the output Jacobian)."""
-        return None
-
-    def singularity_causes(self, mech: Mechanism, q: np.ndarray) -> list[Cause] | None:
-        """Named singularity causes at q (empty list: regular); None: none known."""
-        return None
-
-    def singularity_map(self, mech: Mechanism, **options: Any) -> dict[str, Any] | None:
-        """A vectorised closed-form map of the singularity measures over the workspace."""
-        return None
-
     # ---------------------------------------------------------------- workspace
     def workspace_summary(self, mech: Mechanism, **options: Any) -> dict[str, Any] | None:
         """Closed-form workspace figures (volumes, areas, the rig specification)."""
@@ -171,4 +138,4 @@ class Family:
         return []
 
 
-__all__ = ["Branch", "Cause", "Family", "StopEvent", "TaskKinematics"]
+__all__ = ["Branch", "Family", "StopEvent", "TaskKinematics"]

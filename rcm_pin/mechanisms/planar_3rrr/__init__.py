@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from rcm_pin.analysis.capabilities import Assemblies, Branches, NumericPosition
+from rcm_pin.analysis.singularity_model import ABMatrices, DetMap, NumericSingularity
 from rcm_pin.errors import InvalidInputError, UnreachablePoseError
 from rcm_pin.mechanisms.planar_3rrr import closed_form as p3
 from rcm_pin.model.family import Branch, Family
@@ -75,6 +76,23 @@ class Planar3RRRPosition(NumericPosition):
         return MODES
 
 
+class Planar3RRRSingularity(NumericSingularity):
+    """A/B of the loop equations and their maps (no named causes)."""
+
+    def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> ABMatrices:
+        """Normalised A and B of the loop equations (:func:`normalised_ab`)."""
+        return ABMatrices(*normalised_ab(geometry(mech), *_pose_and_drives(mech, q)), paper=True)
+
+    def workspace_map(self, mech: Mechanism, mode: int, phi: float, n: int) -> DetMap:
+        """Normalised det A and det B over the constant-orientation workspace of one
+        working mode."""
+        from rcm_pin.mechanisms.planar_3rrr import workspace as ws
+
+        grid = ws.Grid.around(geometry(mech), n)
+        da, db = ws.det_maps(geometry(mech), grid, float(phi), mode)
+        return DetMap(grid.x, grid.y, da, db, MODES[mode], float(phi))
+
+
 class Planar3RRRFamily(Family):
     """Hooks of the planar 3-RRR (module docstring)."""
 
@@ -82,31 +100,16 @@ class Planar3RRRFamily(Family):
     description = "planar 3-RRR parallel mechanisms (paper 004)"
     closed = True
     workspace_options = ("n", "phi", "phi_range")
-    capabilities = (Planar3RRRPosition(),)
+    capabilities = (
+        Planar3RRRPosition(),
+        Planar3RRRSingularity(),
+    )
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
         """``home``: the platform centred at the origin, φ = 0, working mode ``+++``."""
         from rcm_pin.analysis.position import inverse
 
         return {"home": inverse(mech, np.zeros(3)).solutions[0].q}
-
-    def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Normalised A and B of the loop equations (:func:`normalised_ab`)."""
-        return normalised_ab(geometry(mech), *_pose_and_drives(mech, q))
-
-    def singularity_map(self, mech: Mechanism, **options: Any) -> dict[str, Any]:
-        """Normalised det A and det B over the constant-orientation workspace of one
-        working mode (options ``mode``, ``phi`` [rad], ``n``)."""
-        from rcm_pin.mechanisms.planar_3rrr import workspace as ws
-
-        mode, phi, n = (
-            int(options.get("mode") or 0),
-            float(options.get("phi", 0.0)),
-            int(options.get("n", 121)),
-        )
-        grid = ws.Grid.around(geometry(mech), n)
-        da, db = ws.det_maps(geometry(mech), grid, phi, mode)
-        return {"x": grid.x, "y": grid.y, "det_A": da, "det_B": db, "mode": MODES[mode], "phi": phi}
 
     def design_metrics(self) -> dict[str, Any]:
         """Regular workspace area and conditioning of a design (:mod:`.design`)."""

@@ -22,7 +22,8 @@ from typing import Any
 import numpy as np
 
 from rcm_pin.analysis.capabilities import Branches, NumericPosition, ReferencePoses
-from rcm_pin.model.family import Branch, Cause, Family, StopEvent, TaskKinematics
+from rcm_pin.analysis.singularity_model import Cause, NumericSingularity
+from rcm_pin.model.family import Branch, Family, StopEvent, TaskKinematics
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import Output
 
@@ -64,12 +65,25 @@ class RcmPoses(ReferencePoses):
         return mech.configurations["regular"]
 
 
+class RcmSingularity(NumericSingularity):
+    """Named causes: tool centre at A, output axis along the base axis, wrist axes aligned."""
+
+    def causes(self, mech: Mechanism, q: np.ndarray) -> tuple[Cause, ...]:
+        from rcm_pin.mechanisms.rcm.singularity import classify
+
+        return tuple(classify(mech, q))
+
+
 class RcmFamily(Family):
     """Hooks of the RCM mechanisms (module docstring)."""
 
     name = "rcm"
     description = "RCM mechanisms with bevel-gear or belt transmissions (papers 000/003)"
-    capabilities = (RcmPosition(), RcmPoses())
+    capabilities = (
+        RcmPosition(),
+        RcmPoses(),
+        RcmSingularity(),
+    )
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
         """``home`` (zeros clipped to the limits), ``mid`` (the middle of the joint box,
@@ -82,12 +96,6 @@ class RcmFamily(Family):
         regular = mid.copy()
         regular[0], regular[1] = 0.5 * mech.upper[0], 0.8 * mech.upper[1]
         return {"home": home, "mid": mid, "regular": regular}
-
-    def singularity_causes(self, mech: Mechanism, q: np.ndarray) -> list[Cause] | None:
-        """Tool centre at A, output axis along the base axis, wrist axes aligned."""
-        from rcm_pin.mechanisms.rcm.singularity import classify
-
-        return classify(mech, q)
 
     def workspace_summary(self, mech: Mechanism, **options: Any) -> dict[str, Any] | None:
         """Volume by three routes, the rig specification, the boundary faces."""

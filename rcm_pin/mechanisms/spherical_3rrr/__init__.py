@@ -46,6 +46,7 @@ from typing import Any
 import numpy as np
 
 from rcm_pin.analysis.capabilities import Assemblies, Branches, NumericPosition
+from rcm_pin.analysis.singularity_model import ABMatrices, NumericSingularity
 from rcm_pin.errors import SingularConfigurationError, UnreachablePoseError
 from rcm_pin.mechanisms.spherical_3rrr import accuracy, direct
 from rcm_pin.mechanisms.spherical_3rrr import closed_form as sc
@@ -123,21 +124,28 @@ class Spherical3RRRPosition(NumericPosition):
         return MODES
 
 
+class Spherical3RRRSingularity(NumericSingularity):
+    """A/B of the loop equations (no named causes, the numeric map)."""
+
+    def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> ABMatrices:
+        """Normalised A and B of the loop equations (:func:`normalised_ab`)."""
+        return ABMatrices(*normalised_ab(geometry(mech), *pose_and_drives(mech, q)), paper=True)
+
+
 class Spherical3RRRFamily(Family):
     """Hooks of the spherical 3-RRR (module docstring)."""
 
     name = "spherical_3rrr"
     description = "spherical 3-RRR parallel mechanisms, Agile Eye (paper 004)"
     closed = True
-    capabilities = (Spherical3RRRPosition(),)
+    capabilities = (
+        Spherical3RRRPosition(),
+        Spherical3RRRSingularity(),
+    )
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
         """``home``: R = I, φ = 0, working mode ``+++`` (every joint angle 0)."""
         return {"home": full_q(mech, np.eye(3), np.zeros(3))}
-
-    def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Normalised A and B of the loop equations (:func:`normalised_ab`)."""
-        return normalised_ab(geometry(mech), *pose_and_drives(mech, q))
 
     def design_metrics(self) -> dict[str, Any]:
         """Regular share of SO(3) and conditioning of a design (:mod:`.design`)."""

@@ -14,6 +14,7 @@ from typing import Any
 import numpy as np
 
 from rcm_pin.analysis.capabilities import Assemblies, Branches, DefaultPoses, NumericPosition
+from rcm_pin.analysis.singularity_model import ABMatrices, NumericSingularity
 from rcm_pin.errors import InvalidInputError, UnreachablePoseError
 from rcm_pin.mechanisms.translational_3ppapa import accuracy
 from rcm_pin.mechanisms.translational_3ppapa.closed_form import (
@@ -130,13 +131,25 @@ class Translational3PPaPaPoses(DefaultPoses):
         return mech.configurations["regular"]
 
 
+class Translational3PPaPaSingularity(NumericSingularity):
+    """A (paper) and B = I (no named causes, the numeric map)."""
+
+    def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> ABMatrices:
+        """A = ∂F/∂p from the crank angles and B = I (both dimensionless)."""
+        return ABMatrices(a_from_angles(crank_angles(mech, q)), np.eye(3), paper=True)
+
+
 class Translational3PPaPaFamily(Family):
     """Hooks of the 3-PPaPa: 64 working modes, assembly modes, A (paper) and B = I."""
 
     name = "translational_3ppapa"
     description = "translational 3-PPaPa parallel mechanism (paper 004 Fig. 4)"
     closed = True
-    capabilities = (Translational3PPaPaPosition(), Translational3PPaPaPoses())
+    capabilities = (
+        Translational3PPaPaPosition(),
+        Translational3PPaPaPoses(),
+        Translational3PPaPaSingularity(),
+    )
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
         """``home``: P = 0, every crank along its drive axis; ``regular``: P at the paper's
@@ -144,10 +157,6 @@ class Translational3PPaPaFamily(Family):
         _, q, ang = inverse_position(geometry(mech), np.zeros(3))[0]
         _, qr, angr = inverse_position(geometry(mech), np.array(REGULAR))[0]
         return {"home": mech_q(mech, q, ang), "regular": mech_q(mech, qr, angr)}
-
-    def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """A = ∂F/∂p from the crank angles and B = I (both dimensionless)."""
-        return a_from_angles(crank_angles(mech, q)), np.eye(3)
 
     def workspace_summary(self, mech: Mechanism, **options: Any) -> dict[str, Any]:
         """Reach and det-A-sign volumes per working mode (:mod:`.workspace`), Monte Carlo
