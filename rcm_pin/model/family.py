@@ -110,15 +110,6 @@ class Family:
         """Folders that resolve the URDF's ``package://`` mesh paths (for the viewer)."""
         return []
 
-    # ---------------------------------------------------------------- accuracy
-    def accuracy_parameters(self, mech: Mechanism) -> tuple[str, ...]:
-        """xacro arguments that enter the kinematics (design-error variables)."""
-        return ()
-
-    def accuracy_report(self, mech: Mechanism, q: np.ndarray) -> dict[str, Any] | None:
-        """The family's own accuracy table (None: the generic placement sensitivities)."""
-        return None
-
     # ---------------------------------------------------------------- design
     def design_metrics(self) -> dict[str, DesignMetric]:
         """Figures of merit of a whole design, by name (:mod:`rcm_pin.design` sweeps them)."""

@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 import rcm_pin
+from rcm_pin.analysis.accuracy import accuracy_model
 from rcm_pin.analysis.loop_velocity import classify, velocity_matrices
 from rcm_pin.analysis.screws import leg_twists, screw_test
 from rcm_pin.analysis.singularity_model import singularity_model
@@ -165,7 +166,7 @@ def _workspace(mm: Mechanism, g: tp.Geometry3PPaPa, out_dir: Path) -> tuple[list
 
 
 def _accuracy(mm: Mechanism) -> list[str]:
-    rep = tp.FAMILY.accuracy_report(mm, tp.FAMILY.configurations(mm)["regular"])
+    rep = accuracy_model(mm).report(mm, mm.configurations["regular"]).to_dict()
     p = rep["point"]
     lines = [
         f"1 mm errors in l1, l2, l3 (all legs), drives locked, at P = ({p[0]:g}, {p[1]:g}, "

@@ -21,6 +21,7 @@ from typing import Any
 
 import numpy as np
 
+from rcm_pin.analysis.accuracy import AccuracyModel, AccuracyReport
 from rcm_pin.analysis.capabilities import Branches, NumericPosition, ReferencePoses
 from rcm_pin.analysis.singularity_model import Cause, NumericSingularity
 from rcm_pin.model.family import Branch, Family, StopEvent, TaskKinematics
@@ -74,6 +75,26 @@ class RcmSingularity(NumericSingularity):
         return tuple(classify(mech, q))
 
 
+class RcmAccuracy(AccuracyModel):
+    """Design parameters and part placements vs tool position and RCM offset."""
+
+    def parameters(self, mech: Mechanism) -> tuple[str, ...]:
+        """The kinematic xacro arguments of the variant (bevel: tooth counts; belt: pulleys)."""
+        if mech.rebuild is None:
+            return ()
+        if mech.model_full.existJointName("shaft15"):
+            return BEVEL_PARAMS
+        if any(n.startswith("pulley") for n in mech.model_full.names):
+            return BELT_PARAMS
+        return ()
+
+    def report(self, mech: Mechanism, q: np.ndarray) -> AccuracyReport:
+        """The first-order table of :func:`.accuracy.report`."""
+        from rcm_pin.mechanisms.rcm.accuracy import report, row
+
+        return AccuracyReport.of(report(mech, q), row)
+
+
 class RcmFamily(Family):
     """Hooks of the RCM mechanisms (module docstring)."""
 
@@ -83,6 +104,7 @@ class RcmFamily(Family):
         RcmPosition(),
         RcmPoses(),
         RcmSingularity(),
+        RcmAccuracy(),
     )
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
@@ -111,16 +133,6 @@ class RcmFamily(Family):
             mech, path, int(options.get("samples", 200_000)), int(options.get("seed", 0))
         )
 
-    def accuracy_parameters(self, mech: Mechanism) -> tuple[str, ...]:
-        """The kinematic xacro arguments of the variant (bevel: tooth counts; belt: pulleys)."""
-        if mech.rebuild is None:
-            return ()
-        if mech.model_full.existJointName("shaft15"):
-            return BEVEL_PARAMS
-        if any(n.startswith("pulley") for n in mech.model_full.names):
-            return BELT_PARAMS
-        return ()
-
     def task_kinematics(self, mech: Mechanism, task: Output) -> TaskKinematics | None:
         """The tool centre p = q3·e4(q1, q2) by the closed form (:mod:`.point`)."""
         if task.coords != ("x", "y", "z") or mech.nq < 3 or task.frame != mech.output.frame:
@@ -135,12 +147,6 @@ class RcmFamily(Family):
             point.point_ik,
             point.point_kinematics,
         )
-
-    def accuracy_report(self, mech: Mechanism, q: np.ndarray) -> dict[str, Any] | None:
-        """Design parameters and part placements vs tool position and RCM offset."""
-        from rcm_pin.mechanisms.rcm.accuracy import report
-
-        return report(mech, q)
 
     def design_metrics(self) -> dict[str, Any]:
         """Rig coverage, conditioning and RCM drift of a design (:mod:`.design`)."""

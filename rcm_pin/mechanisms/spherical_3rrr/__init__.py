@@ -45,6 +45,7 @@ from typing import Any
 
 import numpy as np
 
+from rcm_pin.analysis.accuracy import AccuracyModel, AccuracyReport, AccuracyRow
 from rcm_pin.analysis.capabilities import Assemblies, Branches, NumericPosition
 from rcm_pin.analysis.singularity_model import ABMatrices, NumericSingularity
 from rcm_pin.errors import SingularConfigurationError, UnreachablePoseError
@@ -55,7 +56,7 @@ from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import Output
 from rcm_pin.rotations import matrix_to_rpy
 
-#: Size of each error variable of :meth:`Spherical3RRRFamily.accuracy_report` [rad].
+#: Size of each error variable of :meth:`Spherical3RRRAccuracy.report` [rad].
 ACCURACY_ERROR = float(np.radians(0.5))
 #: Working-mode labels in index order.
 MODES = tuple(f"{w:03b}".replace("0", "+").replace("1", "-") for w in range(8))
@@ -132,6 +133,23 @@ class Spherical3RRRSingularity(NumericSingularity):
         return ABMatrices(*normalised_ab(geometry(mech), *pose_and_drives(mech, q)), paper=True)
 
 
+class Spherical3RRRAccuracy(AccuracyModel):
+    """Paper 004's linear theory (Cramer) beside the nonlinear re-solve (:mod:`.accuracy`)."""
+
+    def parameters(self, mech: Mechanism) -> tuple[str, ...]:
+        """The link angles θ_i1, θ_i2 (xacro arguments, the paper's error variables)."""
+        return tuple(p for p in accuracy.PARAMETERS if p.startswith("theta"))
+
+    def report(self, mech: Mechanism, q: np.ndarray) -> AccuracyReport:
+        """Linear (Cramer) vs nonlinear output errors for 0.5° in each link angle and each
+        drive angle, drives locked, at the closed configuration q (:mod:`.accuracy`)."""
+        R, phi = pose_and_drives(mech, mech.check_q(q))
+        x = np.array(matrix_to_rpy(R))
+        rows = accuracy.table(geometry(mech), x, phi, ACCURACY_ERROR)
+        table = {"mechanism": mech.name, "q": q, "angles": x, "error": ACCURACY_ERROR, "rows": rows}
+        return AccuracyReport.of(table, AccuracyRow.of_output)
+
+
 class Spherical3RRRFamily(Family):
     """Hooks of the spherical 3-RRR (module docstring)."""
 
@@ -141,6 +159,7 @@ class Spherical3RRRFamily(Family):
     capabilities = (
         Spherical3RRRPosition(),
         Spherical3RRRSingularity(),
+        Spherical3RRRAccuracy(),
     )
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
@@ -178,18 +197,6 @@ class Spherical3RRRFamily(Family):
         from rcm_pin.mechanisms.spherical_3rrr import plots
 
         return plots.maps_figure(geometry(mech), Path(path), mode=int(options.get("mode") or 0))
-
-    def accuracy_parameters(self, mech: Mechanism) -> tuple[str, ...]:
-        """The link angles θ_i1, θ_i2 (xacro arguments, the paper's error variables)."""
-        return tuple(p for p in accuracy.PARAMETERS if p.startswith("theta"))
-
-    def accuracy_report(self, mech: Mechanism, q: np.ndarray) -> dict[str, Any]:
-        """Linear (Cramer) vs nonlinear output errors for 0.5° in each link angle and each
-        drive angle, drives locked, at the closed configuration q (:mod:`.accuracy`)."""
-        R, phi = pose_and_drives(mech, mech.check_q(q))
-        x = np.array(matrix_to_rpy(R))
-        rows = accuracy.table(geometry(mech), x, phi, ACCURACY_ERROR)
-        return {"mechanism": mech.name, "q": q, "angles": x, "error": ACCURACY_ERROR, "rows": rows}
 
 
 FAMILY = Spherical3RRRFamily()
