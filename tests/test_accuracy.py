@@ -60,3 +60,32 @@ def test_errors():
         "xacro parameter 'm_tool' not in rcm_bevel; valid: l9, a7_x, a7_z, z13, z14, z16, "
         "z17, z18, z19, z21, z22"
     )
+
+
+@pytest.mark.parametrize(
+    ("name", "kind", "params"),
+    [
+        ("rcm_bevel", "RcmAccuracy", 11),
+        ("spherical_3rrr", "Spherical3RRRAccuracy", 6),
+        ("translational_3ppapa", "Translational3PPaPaAccuracy", 3),
+        ("four_bar", "PlacementAccuracy", 0),
+        ("ur5", "PlacementAccuracy", 0),
+    ],
+)
+def test_one_accuracy_model_per_mechanism_and_one_row_shape(name, kind, params):
+    """The resolver gives the family's model or the default; every row prints one line
+    and keeps its table's JSON keys; the hooks are gone from Family."""
+    from rcm_pin.analysis.accuracy import AccuracyRow, accuracy_model
+    from rcm_pin.analysis.capabilities import reference_poses
+    from rcm_pin.model.family import Family
+
+    assert not hasattr(Family, "accuracy_report") and not hasattr(Family, "accuracy_parameters")
+    m = rcm_pin.load(name)
+    model = accuracy_model(m)
+    assert type(model).__name__ == kind and len(model.parameters(m)) == params
+    rep = model.report(m, reference_poses(m).accuracy(m))
+    out = rep.to_dict()
+    assert list(out)[:2] == ["mechanism", "q"] and list(out)[-1] == "rows"
+    assert all(isinstance(r, AccuracyRow) for r in rep.rows)
+    assert [dict(r.fields) for r in rep.rows] == out["rows"]
+    assert len(rep.lines()) == len(out["rows"]) and all(rep.lines())

@@ -14,6 +14,7 @@ import pytest
 from conftest import EXACT
 
 import rcm_pin
+from rcm_pin.analysis.accuracy import accuracy_model
 from rcm_pin.analysis.workspace import workspace_model
 from rcm_pin.cli import main
 from rcm_pin.errors import SingularConfigurationError
@@ -93,7 +94,7 @@ def test_cramer_denominator_is_det_a(g):
 
 def test_linear_theory_is_the_derivative_of_the_nonlinear_error(mm, g):
     q = mm.configurations["regular"]
-    rep = mm.family.accuracy_report(mm, q)
+    rep = accuracy_model(mm).report(mm, q).to_dict()
     np.testing.assert_allclose(rep["point"], tp.REGULAR, atol=EXACT)
     drives, p = rep["drives"], rep["point"]
     signs, ang = np.ones((3, 2)), tp.crank_angles(mm, q)

@@ -11,13 +11,19 @@ the RCM offset c = (I − e eᵀ)(o − a) of its insertion axis.
   closure Newton), so the error is the output's displacement the loops allow.
 
 First order: central finite differences ∂f/∂θ (h = 1e-7); nonlinear: f(θ0 + δ) − f(θ0)
-for the chosen error size δ; their relative difference is the linear theory's error. A
-family may add design (xacro) parameters of its own (:mod:`rcm_pin.mechanisms.rcm.accuracy`).
+for the chosen error size δ; their relative difference is the linear theory's error.
+
+This is the default :class:`PlacementAccuracy` of the :class:`AccuracyModel` capability:
+:func:`accuracy_model` returns the family's model (its own table, e.g. design (xacro)
+parameters, :mod:`rcm_pin.mechanisms.rcm.accuracy`) or the default, so ``rcm-pin
+accuracy`` has one path and prints one row shape (:class:`AccuracyRow`).
 """
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from abc import ABC, abstractmethod
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
@@ -150,4 +156,131 @@ def cramer(a_mat: np.ndarray, rhs: np.ndarray, min_det: float = 1e-12) -> np.nda
     return out
 
 
-__all__ = ["COMPONENTS", "cramer", "placement_change", "sensitivities"]
+@dataclass(frozen=True)
+class AccuracyRow:
+    """One error variable's effect on the outputs: the one row shape ``rcm-pin accuracy``
+    prints; its JSON keys are each table's own (``fields``).
+
+    Attributes:
+        variable: the error variable (a joint placement, a link, a design parameter).
+        kind: its component or kind (``dx``, ``θ``, ``length 0.1 mm``, ...).
+        output: the output change for the error, first order [m, rad].
+        nonlinear: the nonlinear change (None: a first-order table, which gives ``rcm``).
+        rcm: the RCM line's change for the error [m] (None: not in the table).
+        fields: the row as the table writes it (the JSON keys).
+    """
+
+    variable: str
+    kind: str
+    output: float
+    nonlinear: float | None
+    rcm: float | None
+    fields: Mapping[str, Any] = field(repr=False)
+
+    @classmethod
+    def of_output(cls, row: Mapping[str, Any]) -> AccuracyRow:
+        """A linear-vs-nonlinear row (keys ``joint``, ``component``, ``linear_output``,
+        ``nonlinear_output``)."""
+        return cls(
+            row["joint"],
+            row["component"],
+            row["linear_output"],
+            row["nonlinear_output"],
+            row.get("linear_rcm"),
+            row,
+        )
+
+    def line(self) -> str:
+        """The CLI's text line (first-order tables: the tool and RCM-line changes)."""
+        if self.nonlinear is None:
+            return (
+                f"{self.variable:<26} {self.kind:<14} tool {self.output:.3g} m, "
+                f"RCM line {self.rcm or 0.0:.3g} m"
+            )
+        return (
+            f"{self.variable:<12} {self.kind:<3} output {self.output:.3g} "
+            f"(nonlinear {self.nonlinear:.3g})"
+        )
+
+
+@dataclass(frozen=True)
+class AccuracyReport:
+    """An accuracy table at one configuration.
+
+    Attributes:
+        mechanism: the mechanism's name.
+        q: the configuration (n,).
+        rows: the error variables' rows, largest effect first.
+        extra: the table's other JSON keys (e.g. the point, det A), in their order.
+    """
+
+    mechanism: str
+    q: np.ndarray
+    rows: tuple[AccuracyRow, ...]
+    extra: Mapping[str, Any] = field(default_factory=dict, repr=False)
+
+    @classmethod
+    def of(
+        cls, table: Mapping[str, Any], row: Callable[[Mapping[str, Any]], AccuracyRow]
+    ) -> AccuracyReport:
+        """From a ``{"mechanism", "q", ..., "rows"}`` table, each row read by ``row``."""
+        extra = {k: v for k, v in table.items() if k not in ("mechanism", "q", "rows")}
+        rows = tuple(row(r) for r in table["rows"])
+        return cls(table["mechanism"], table["q"], rows, extra)
+
+    def to_dict(self) -> dict[str, Any]:
+        """The JSON of ``rcm-pin accuracy`` (``mechanism``, ``q``, the extra keys, ``rows``)."""
+        return {
+            "mechanism": self.mechanism,
+            "q": self.q,
+            **self.extra,
+            "rows": [dict(r.fields) for r in self.rows],
+        }
+
+    def lines(self) -> list[str]:
+        """The CLI's text, one line per row."""
+        return [r.line() for r in self.rows]
+
+
+class AccuracyModel(ABC):
+    """A family's accuracy table and its design-error variables."""
+
+    @abstractmethod
+    def parameters(self, mech: Mechanism) -> tuple[str, ...]:
+        """xacro arguments that enter the kinematics (design-error variables)."""
+
+    @abstractmethod
+    def report(self, mech: Mechanism, q: np.ndarray) -> AccuracyReport:
+        """The accuracy table at q (closed: a closed configuration, drives locked)."""
+
+
+class PlacementAccuracy(AccuracyModel):
+    """The default: no design parameters; every joint placement's sensitivity
+    (:func:`sensitivities`)."""
+
+    def parameters(self, mech: Mechanism) -> tuple[str, ...]:
+        return ()
+
+    def report(self, mech: Mechanism, q: np.ndarray) -> AccuracyReport:
+        return AccuracyReport.of(sensitivities(mech, q), AccuracyRow.of_output)
+
+
+PLACEMENT_ACCURACY = PlacementAccuracy()
+
+
+def accuracy_model(mech: Mechanism) -> AccuracyModel:
+    """The family's :class:`AccuracyModel`, else :class:`PlacementAccuracy`."""
+    return mech.family.capability(AccuracyModel) or PLACEMENT_ACCURACY  # type: ignore[type-abstract]
+
+
+__all__ = [
+    "COMPONENTS",
+    "AccuracyModel",
+    "AccuracyReport",
+    "AccuracyRow",
+    "PlacementAccuracy",
+    "accuracy_model",
+    "cramer",
+    "placement_change",
+    "sensitivities",
+]

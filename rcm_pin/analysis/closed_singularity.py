@@ -16,6 +16,7 @@ from rcm_pin.analysis.capabilities import position_solver
 from rcm_pin.analysis.loop_velocity import SINGULAR_TOL, classify, velocity_matrices
 from rcm_pin.analysis.position import PositionSolution, forward, inverse
 from rcm_pin.analysis.screws import screw_test
+from rcm_pin.analysis.singularity_model import singularity_model
 from rcm_pin.errors import InvalidInputError
 from rcm_pin.model.mechanism import Mechanism
 
@@ -52,13 +53,13 @@ def configuration_report(
     c = classify(mech, q, tol)
     s = screw_test(mech, q, tol)
     scale = np.where(loops.output.angular, loops.length_scale, 1.0)
-    ab = mech.family.ab_matrices(mech, q)
+    ab = singularity_model(mech).ab_matrices(mech, q)
     return {
         "mode": label,
         "q": q,
         "residual": float(np.linalg.norm(mech.closure_residual(q))),
-        "det_A": None if ab is None else float(np.linalg.det(ab[0])),
-        "det_B": None if ab is None else float(np.linalg.det(ab[1])),
+        "det_A": ab.det_A,
+        "det_B": ab.det_B,
         "sigma_A": np.linalg.svd(vm.A / scale[None, :], compute_uv=False),
         "sigma_B": np.linalg.svd(vm.B / loops.length_scale, compute_uv=False),
         "measure_type1": c.measure_type1,

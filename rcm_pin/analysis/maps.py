@@ -1,10 +1,11 @@
 """Maps of the singularity measures of a closed mechanism over its workspace.
 
-The family's vectorised closed form (normalised det A and det B of one working mode over a
-grid of the first two output coordinates) where it has one; otherwise the numeric route:
-the inverse problem in every cell and Pinocchio's A/B measures (σ_min/σ_max) of the chosen
-working mode. NaN outside the workspace. Summaries: reachable area, sign changes of det A
-along grid rows (type-2 curve crossings) and the smallest |det A|, |det B| (or measures).
+The family's :class:`.singularity_model.SingularityModel` draws the map: a vectorised
+closed form (normalised det A and det B of one working mode over a grid of the first two
+output coordinates) where it has one; otherwise the numeric default: the inverse problem
+in every cell and Pinocchio's A/B measures (σ_min/σ_max) of the chosen working mode. NaN
+outside the workspace. Summaries: reachable area, sign changes of det A along grid rows
+(type-2 curve crossings) and the smallest |det A|, |det B| (or measures).
 """
 
 from __future__ import annotations
@@ -14,35 +15,9 @@ from typing import Any
 
 import numpy as np
 
-from rcm_pin.analysis.loop_velocity import velocity_matrices
-from rcm_pin.analysis.position import inverse
-from rcm_pin.errors import InvalidInputError, RcmPinError
+from rcm_pin.analysis.singularity_model import singularity_model
+from rcm_pin.errors import InvalidInputError
 from rcm_pin.model.mechanism import Mechanism
-
-
-def _numeric_map(mech: Mechanism, mode: int, phi: float, n: int) -> dict[str, Any]:
-    loops = mech.require_loops()
-    out = loops.output
-    if out.size < 2 or out.coords[0] not in ("x", "y", "z") or out.coords[1] not in ("x", "y", "z"):
-        raise InvalidInputError(
-            f"{mech.name}: a workspace map needs two translation outputs first; it has "
-            f"{list(out.coords)}"
-        )
-    reach = 2.0 * loops.length_scale * max(len(loops.legs), 1)
-    x = np.linspace(-reach, reach, n)
-    y = np.linspace(-reach, reach, n)
-    da, db = np.full((n, n), np.nan), np.full((n, n), np.nan)
-    for iy, yy in enumerate(y):
-        for ix, xx in enumerate(x):
-            target = np.r_[xx, yy, np.full(out.size - 2, phi)]
-            try:
-                sols = inverse(mech, target).solutions
-            except RcmPinError:
-                continue
-            if mode < len(sols):
-                vm = velocity_matrices(mech, sols[mode].q)
-                da[iy, ix], db[iy, ix] = vm.measure_type2, vm.measure_type1
-    return {"x": x, "y": y, "det_A": da, "det_B": db, "mode": str(mode), "phi": phi}
 
 
 def singularity_map(mech: Mechanism, mode: int = 0, phi: float = 0.0, n: int = 121) -> dict:
@@ -53,15 +28,13 @@ def singularity_map(mech: Mechanism, mode: int = 0, phi: float = 0.0, n: int = 1
     """
     if n < 5:
         raise InvalidInputError(f"grid size {n}; valid: >= 5 points per side")
-    res = mech.family.singularity_map(mech, mode=mode, phi=phi, n=n)
-    if res is None:
-        res = _numeric_map(mech, mode, phi, n)
-    x, y, da, db = res["x"], res["y"], np.asarray(res["det_A"]), np.asarray(res["det_B"])
+    res = singularity_model(mech).workspace_map(mech, mode, phi, n)
+    x, y, da, db = res.x, res.y, np.asarray(res.det_a), np.asarray(res.det_b)
     finite = np.isfinite(da)
     cell = float((x[1] - x[0]) * (y[1] - y[0]))
     return {
         "mechanism": mech.name,
-        **res,
+        **res.to_dict(),
         "reachable_area": float(finite.sum()) * cell,
         "type2_sign_changes": int(np.sum((da[:, 1:] * da[:, :-1]) < 0)),
         "min_abs_det_A": float(np.min(np.abs(da[finite]))) if finite.any() else None,

@@ -13,8 +13,8 @@ Jacobian [v; ω]; ``"position"``: its 3×n linear rows) from its singular values
   the n − m free ones (joint motions that do not move the tool);
 - unreachable task directions: left singular vectors of the lost singular values.
 
-Named causes come from the family (:meth:`rcm_pin.model.family.Family.singularity_causes`,
-e.g. the RCM mechanisms' tool centre at A). Closed mechanisms: type 1 / type 2 from A and
+Named causes come from the family's :class:`.singularity_model.SingularityModel` (e.g. the
+RCM mechanisms' tool centre at A). Closed mechanisms: type 1 / type 2 from A and
 B, :mod:`rcm_pin.analysis.loop_velocity`; :func:`analyse_configuration` serves both.
 """
 
@@ -26,8 +26,8 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from rcm_pin.analysis.jacobians import tool_jacobian
+from rcm_pin.analysis.singularity_model import Cause, singularity_model
 from rcm_pin.errors import InvalidInputError
-from rcm_pin.model.family import Cause
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.rotations import FloatArray
 
@@ -128,8 +128,7 @@ def analyse(
 
 def causes(mech: Mechanism, q: ArrayLike) -> list[Cause]:
     """The family's named singularity causes at q (empty when regular or none known)."""
-    found = mech.family.singularity_causes(mech, mech.check_q(q))
-    return found or []
+    return list(singularity_model(mech).causes(mech, mech.check_q(q)))
 
 
 def measure(a: JacobianAnalysis, name: str) -> float:

@@ -19,6 +19,7 @@ import pinocchio as pin
 from numpy.typing import ArrayLike
 
 from rcm_pin.analysis.jacobians import LWA, tool_jacobian
+from rcm_pin.analysis.singularity_model import singularity_model
 from rcm_pin.errors import InvalidInputError, SingularConfigurationError
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.rotations import FloatArray, as_finite, check_magnitude, rot_y, rot_z
@@ -122,7 +123,7 @@ def solve_task(mech: Mechanism, q: FloatArray, J: FloatArray, rhs: FloatArray) -
     s = np.linalg.svd(J, compute_uv=False)
     rank = int(np.sum(s > RANK_TOL * max(s[0], 1e-300)))
     if rank < min(J.shape):
-        causes = mech.family.singularity_causes(mech, q) or []
+        causes = singularity_model(mech).causes(mech, q)
         named = "; ".join(f"{c.description} ({c.condition})" for c in causes) or "rank loss"
         raise SingularConfigurationError(
             f"{mech.name} is singular at q = {np.round(q, 6).tolist()}: Jacobian rank "

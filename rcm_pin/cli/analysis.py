@@ -251,23 +251,11 @@ def cmd_workspace(args: argparse.Namespace) -> int:
 
 def cmd_accuracy(args: argparse.Namespace) -> int:
     """``rcm-pin accuracy``: the family's table, or every joint placement's sensitivity."""
-    from rcm_pin.analysis import accuracy
+    from rcm_pin.analysis.accuracy import accuracy_model
     from rcm_pin.analysis.capabilities import reference_poses
 
     mech = load_mechanism(args)
     q = parse_vector(args.q, "q", mech.nq) if args.q else reference_poses(mech).accuracy(mech)
-    rep = mech.family.accuracy_report(mech, q) or accuracy.sensitivities(mech, q)
-    lines = []
-    for r in rep["rows"]:
-        if "parameter" in r:
-            lines.append(
-                f"{r['parameter']:<26} {r['kind']:<14} tool {r['tool_per_error']:.3g} m, "
-                f"RCM line {r['rcm_per_error']:.3g} m"
-            )
-        else:
-            lines.append(
-                f"{r['joint']:<12} {r['component']:<3} output {r['linear_output']:.3g} "
-                f"(nonlinear {r['nonlinear_output']:.3g})"
-            )
-    emit(args, rep, "\n".join(lines))
+    rep = accuracy_model(mech).report(mech, q)
+    emit(args, rep.to_dict(), "\n".join(rep.lines()))
     return 0

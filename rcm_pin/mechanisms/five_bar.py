@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from rcm_pin.analysis.capabilities import Assemblies, Branches, NumericPosition
+from rcm_pin.analysis.singularity_model import ABMatrices, DetMap, NumericSingularity
 from rcm_pin.analysis.workspace import WorkspaceModel
 from rcm_pin.control.capabilities import DefaultScenarios
 from rcm_pin.control.references import QuinticPath
@@ -240,6 +241,30 @@ class FiveBarWorkspace(WorkspaceModel):
         )
 
 
+class FiveBarSingularity(NumericSingularity):
+    """A/B of the main drives from the loop equations, and their maps (no named causes)."""
+
+    def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> ABMatrices:
+        """Main-drive A / (2 l2_i) and B / (2 l1_i l2_i) (dimensionless determinants)."""
+        g = geometry(mech)
+        a_mat, b_mat = ab_matrices(g, mech.output_value(q), q[mech.require_loops().drive_q])
+        return ABMatrices(
+            a_mat / (2.0 * g.l2[:, None]), b_mat / (2.0 * (g.l1 * g.l2)[:, None]), paper=True
+        )
+
+    def workspace_map(self, mech: Mechanism, mode: int, phi: float, n: int) -> DetMap:
+        """Normalised det A, det B of the main drives over the point workspace."""
+        g = geometry(mech)
+        x, y = point_grid(g, n)
+        pts = np.stack(np.meshgrid(x, y), axis=-1)
+        qs, ok = inverse_position(g, pts)
+        a_mat, b_mat = ab_matrices(g, pts, np.nan_to_num(qs[..., mode, :]))
+        da = np.linalg.det(a_mat) / (4 * np.prod(g.l2))
+        db = np.linalg.det(b_mat) / (4 * np.prod(g.l1) * np.prod(g.l2))
+        da[~ok], db[~ok] = np.nan, np.nan
+        return DetMap(x, y, da, db, MODES[mode], None)
+
+
 class FiveBarFamily(Family):
     """Hooks of the five-bar: working and assembly modes, A/B of the main drives."""
 
@@ -250,6 +275,7 @@ class FiveBarFamily(Family):
         FiveBarPosition(),
         FiveBarScenarios(),
         FiveBarWorkspace(),
+        FiveBarSingularity(),
     )
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
@@ -260,25 +286,6 @@ class FiveBarFamily(Family):
             mech.require_loops().params["proximal_1"] + mech.require_loops().params["distal_1"]
         )
         return {"home": inverse(mech, np.array([0.0, 0.6 * reach])).solutions[0].q}
-
-    def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Main-drive A / (2 l2_i) and B / (2 l1_i l2_i) (dimensionless determinants)."""
-        g = geometry(mech)
-        a_mat, b_mat = ab_matrices(g, mech.output_value(q), q[mech.require_loops().drive_q])
-        return a_mat / (2.0 * g.l2[:, None]), b_mat / (2.0 * (g.l1 * g.l2)[:, None])
-
-    def singularity_map(self, mech: Mechanism, **options: Any) -> dict[str, Any]:
-        """Normalised det A, det B of the main drives over the point workspace."""
-        mode, n = int(options.get("mode") or 0), int(options.get("n", 121))
-        g = geometry(mech)
-        x, y = point_grid(g, n)
-        pts = np.stack(np.meshgrid(x, y), axis=-1)
-        qs, ok = inverse_position(g, pts)
-        a_mat, b_mat = ab_matrices(g, pts, np.nan_to_num(qs[..., mode, :]))
-        da = np.linalg.det(a_mat) / (4 * np.prod(g.l2))
-        db = np.linalg.det(b_mat) / (4 * np.prod(g.l1) * np.prod(g.l2))
-        da[~ok], db[~ok] = np.nan, np.nan
-        return {"x": x, "y": y, "det_A": da, "det_B": db, "mode": MODES[mode], "phi": None}
 
 
 FAMILY = FiveBarFamily()

@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 
 from rcm_pin.analysis.capabilities import Assemblies, Branches, NumericPosition
+from rcm_pin.analysis.singularity_model import ABMatrices, NumericSingularity
 from rcm_pin.analysis.workspace import NumericWorkspace
 from rcm_pin.errors import UnreachablePoseError
 from rcm_pin.interfaces.design import DesignMetric, MetricSource
@@ -181,6 +182,17 @@ class FourBarMetrics(MetricSource):
         }
 
 
+class FourBarSingularity(NumericSingularity):
+    """A/B of the loop equation (no named causes, the numeric map)."""
+
+    def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> ABMatrices:
+        """A / (2 l2 l3) and B / (2 l1 l2) (dimensionless)."""
+        g, loops = geometry(mech), mech.require_loops()
+        psi = float(mech.output_value(q)[0])
+        a_mat, b_mat = ab_matrices(g, float(q[loops.drive_q[0]]), psi)
+        return ABMatrices(a_mat / (2.0 * g.l2 * g.l3), b_mat / (2.0 * g.l1 * g.l2), paper=True)
+
+
 class FourBarFamily(Family):
     """Hooks of the four-bar: both assembly and working modes, A/B, the rocker's swing."""
 
@@ -191,6 +203,7 @@ class FourBarFamily(Family):
         FourBarPosition(),
         FourBarWorkspace(),
         FourBarMetrics(),
+        FourBarSingularity(),
     )
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
@@ -198,13 +211,6 @@ class FourBarFamily(Family):
         g = geometry(mech)
         psi = max(direct_position(g, 0.0))
         return {"home": full_q(g, 0.0, psi)}
-
-    def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """A / (2 l2 l3) and B / (2 l1 l2) (dimensionless)."""
-        g, loops = geometry(mech), mech.require_loops()
-        psi = float(mech.output_value(q)[0])
-        a_mat, b_mat = ab_matrices(g, float(q[loops.drive_q[0]]), psi)
-        return a_mat / (2.0 * g.l2 * g.l3), b_mat / (2.0 * g.l1 * g.l2)
 
 
 FAMILY = FourBarFamily()

@@ -8,14 +8,13 @@ build from URDF text (:mod:`.build`).
 """
 
 from rcm_pin.model.coupling import Coupling
-from rcm_pin.model.family import Branch, Cause, Family
+from rcm_pin.model.family import Branch, Family
 from rcm_pin.model.loops import Closure, Loops
 from rcm_pin.model.mechanism import Mechanism, RcmSpec
 from rcm_pin.model.output import Output
 
 __all__ = [
     "Branch",
-    "Cause",
     "Closure",
     "Coupling",
     "Family",

@@ -1,13 +1,13 @@
-"""What a mechanism family may know beyond its URDF: the hooks generic code asks for.
+"""What a mechanism family may know beyond its URDF: named configurations and capabilities.
 
 Generic algorithms (``rcm_pin.analysis``, ``dynamics``, ``control``, ``viz``) never test a
-mechanism's name. They ask the mechanism's :class:`Family` for a hook; a hook that returns
-``None`` means "this family has no closed form here", and the generic numeric route runs.
-Each family module in ``rcm_pin.mechanisms`` subclasses :class:`Family` and overrides the
-hooks its papers give (the paper's A and B matrices, named singularity causes, ...).
-Concerns moved to typed capabilities (position problems, reference poses, task kinematics,
-scenarios and stop events, workspace, design metrics, mesh folders) are listed in
-:attr:`Family.capabilities` instead, each resolved by the layer that consumes it.
+mechanism's name. Each family module in ``rcm_pin.mechanisms`` subclasses :class:`Family`,
+names its configurations (``home`` and others; :mod:`rcm_pin.model.configurations` holds
+the one default) and lists its implementations of the capabilities the consuming layers
+define (``capabilities``: analytic position problems, reference poses, the paper's A and B
+matrices and named singularity causes, accuracy tables, workspace figures, task
+kinematics, scenarios and stop events, design metrics, mesh folders); each layer's
+resolver returns the family's implementation or its numeric default behind the same ABC.
 
 The base class is also the family of a URDF loaded by path that names no family.
 """
@@ -15,7 +15,7 @@ The base class is also the family of a URDF loaded by path that names no family.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, TypeVar
+from typing import TYPE_CHECKING, TypeVar
 
 import numpy as np
 
@@ -40,27 +40,8 @@ class Branch:
     label: str
 
 
-@dataclass(frozen=True)
-class Cause:
-    """A named singularity of a family at a configuration.
-
-    Attributes:
-        name: identifier (e.g. ``tool_centre_at_A``).
-        description: what happens.
-        condition: the equation of the singular set.
-        tasks: the Jacobians it makes rank-deficient (``full``, ``position``).
-        rank_loss: rank lost in the full Jacobian (alone).
-    """
-
-    name: str
-    description: str
-    condition: str
-    tasks: tuple[str, ...]
-    rank_loss: int
-
-
 class Family:
-    """Base family: no closed forms, every hook answers ``None`` (numeric routes)."""
+    """Base family: no named configurations, no capabilities (numeric defaults everywhere)."""
 
     name = "generic"
     description = "any URDF: numeric routes only"
@@ -81,29 +62,5 @@ class Family:
         """Named configurations (Mechanism coordinates); ``home`` is the default pose."""
         return {}
 
-    # ------------------------------------------------------- velocity and singularity
-    def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
-        """The paper's A, B (A ẋ = −B q̇_a) at a closed configuration, from its equations,
-        rows and columns scaled so that their determinants are dimensionless (for the
-        singular verdicts; −A⁻¹B of the scaled matrices is not the output Jacobian)."""
-        return None
 
-    def singularity_causes(self, mech: Mechanism, q: np.ndarray) -> list[Cause] | None:
-        """Named singularity causes at q (empty list: regular); None: none known."""
-        return None
-
-    def singularity_map(self, mech: Mechanism, **options: Any) -> dict[str, Any] | None:
-        """A vectorised closed-form map of the singularity measures over the workspace."""
-        return None
-
-    # ---------------------------------------------------------------- accuracy
-    def accuracy_parameters(self, mech: Mechanism) -> tuple[str, ...]:
-        """xacro arguments that enter the kinematics (design-error variables)."""
-        return ()
-
-    def accuracy_report(self, mech: Mechanism, q: np.ndarray) -> dict[str, Any] | None:
-        """The family's own accuracy table (None: the generic placement sensitivities)."""
-        return None
-
-
-__all__ = ["Branch", "Cause", "Family"]
+__all__ = ["Branch", "Family"]

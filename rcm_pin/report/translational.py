@@ -17,8 +17,10 @@ from typing import Any
 import numpy as np
 
 import rcm_pin
+from rcm_pin.analysis.accuracy import accuracy_model
 from rcm_pin.analysis.loop_velocity import classify, velocity_matrices
 from rcm_pin.analysis.screws import leg_twists, screw_test
+from rcm_pin.analysis.singularity_model import singularity_model
 from rcm_pin.analysis.workspace import workspace_model
 from rcm_pin.mechanisms import translational_3ppapa as tp
 from rcm_pin.mechanisms.translational_3ppapa import accuracy as acc
@@ -82,9 +84,10 @@ def _agreement(mm: Mechanism, ml: Mechanism, g: tp.Geometry3PPaPa, n: int) -> li
 def _singular(mm: Mechanism, g: tp.Geometry3PPaPa) -> list[str]:
     t = tp.diagonal_singularity(g)
     s = rcm_pin.inverse(mm, np.full(3, t)).solutions[0]
-    a_mat, _ = tp.FAMILY.ab_matrices(mm, s.q)
+    a_mat = singularity_model(mm).ab_matrices(mm, s.q).A
     st = rcm_pin.inverse(mm, np.array([0.05, 0.02, g.l2])).solutions[0]
-    a_st, b_st = tp.FAMILY.ab_matrices(mm, st.q)
+    ab_st = singularity_model(mm).ab_matrices(mm, st.q)
+    a_st, b_st = ab_st.A, ab_st.B
     pv = vd.paper_verdict(tp.crank_angles(mm, st.q))
     return [
         f"- **Type 2 (det A = 0)** on the diagonal x = y = z = t* = {t:.6f} m in mode "
@@ -164,7 +167,7 @@ def _workspace(mm: Mechanism, g: tp.Geometry3PPaPa, out_dir: Path) -> tuple[list
 
 
 def _accuracy(mm: Mechanism) -> list[str]:
-    rep = tp.FAMILY.accuracy_report(mm, tp.FAMILY.configurations(mm)["regular"])
+    rep = accuracy_model(mm).report(mm, mm.configurations["regular"]).to_dict()
     p = rep["point"]
     lines = [
         f"1 mm errors in l1, l2, l3 (all legs), drives locked, at P = ({p[0]:g}, {p[1]:g}, "

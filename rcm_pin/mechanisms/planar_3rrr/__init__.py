@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from rcm_pin.analysis.capabilities import Assemblies, Branches, NumericPosition
+from rcm_pin.analysis.singularity_model import ABMatrices, DetMap, NumericSingularity
 from rcm_pin.analysis.workspace import WorkspaceModel
 from rcm_pin.control.capabilities import DefaultScenarios
 from rcm_pin.errors import InvalidInputError, UnreachablePoseError
@@ -165,6 +166,23 @@ class Planar3RRRMetrics(MetricSource):
         return dict(METRICS)
 
 
+class Planar3RRRSingularity(NumericSingularity):
+    """A/B of the loop equations and their maps (no named causes)."""
+
+    def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> ABMatrices:
+        """Normalised A and B of the loop equations (:func:`normalised_ab`)."""
+        return ABMatrices(*normalised_ab(geometry(mech), *_pose_and_drives(mech, q)), paper=True)
+
+    def workspace_map(self, mech: Mechanism, mode: int, phi: float, n: int) -> DetMap:
+        """Normalised det A and det B over the constant-orientation workspace of one
+        working mode."""
+        from rcm_pin.mechanisms.planar_3rrr import workspace as ws
+
+        grid = ws.Grid.around(geometry(mech), n)
+        da, db = ws.det_maps(geometry(mech), grid, float(phi), mode)
+        return DetMap(grid.x, grid.y, da, db, MODES[mode], float(phi))
+
+
 class Planar3RRRFamily(Family):
     """Hooks of the planar 3-RRR (module docstring)."""
 
@@ -176,6 +194,7 @@ class Planar3RRRFamily(Family):
         Planar3RRRScenarios(),
         Planar3RRRWorkspace(),
         Planar3RRRMetrics(),
+        Planar3RRRSingularity(),
     )
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
@@ -183,24 +202,6 @@ class Planar3RRRFamily(Family):
         from rcm_pin.analysis.position import inverse
 
         return {"home": inverse(mech, np.zeros(3)).solutions[0].q}
-
-    def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Normalised A and B of the loop equations (:func:`normalised_ab`)."""
-        return normalised_ab(geometry(mech), *_pose_and_drives(mech, q))
-
-    def singularity_map(self, mech: Mechanism, **options: Any) -> dict[str, Any]:
-        """Normalised det A and det B over the constant-orientation workspace of one
-        working mode (options ``mode``, ``phi`` [rad], ``n``)."""
-        from rcm_pin.mechanisms.planar_3rrr import workspace as ws
-
-        mode, phi, n = (
-            int(options.get("mode") or 0),
-            float(options.get("phi", 0.0)),
-            int(options.get("n", 121)),
-        )
-        grid = ws.Grid.around(geometry(mech), n)
-        da, db = ws.det_maps(geometry(mech), grid, phi, mode)
-        return {"x": grid.x, "y": grid.y, "det_A": da, "det_B": db, "mode": MODES[mode], "phi": phi}
 
 
 FAMILY = Planar3RRRFamily()

@@ -21,7 +21,9 @@ from typing import Any
 
 import numpy as np
 
+from rcm_pin.analysis.accuracy import AccuracyModel, AccuracyReport
 from rcm_pin.analysis.capabilities import Branches, NumericPosition, ReferencePoses
+from rcm_pin.analysis.singularity_model import Cause, NumericSingularity
 from rcm_pin.analysis.workspace import WorkspaceModel
 from rcm_pin.control.capabilities import (
     FrameJacobianTask,
@@ -30,7 +32,7 @@ from rcm_pin.control.capabilities import (
     TaskKinematics,
 )
 from rcm_pin.interfaces.design import DesignMetric, MetricSource
-from rcm_pin.model.family import Branch, Cause, Family
+from rcm_pin.model.family import Branch, Family
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import Output
 
@@ -147,6 +149,35 @@ class RcmMetrics(MetricSource):
         return dict(METRICS)
 
 
+class RcmSingularity(NumericSingularity):
+    """Named causes: tool centre at A, output axis along the base axis, wrist axes aligned."""
+
+    def causes(self, mech: Mechanism, q: np.ndarray) -> tuple[Cause, ...]:
+        from rcm_pin.mechanisms.rcm.singularity import classify
+
+        return tuple(classify(mech, q))
+
+
+class RcmAccuracy(AccuracyModel):
+    """Design parameters and part placements vs tool position and RCM offset."""
+
+    def parameters(self, mech: Mechanism) -> tuple[str, ...]:
+        """The kinematic xacro arguments of the variant (bevel: tooth counts; belt: pulleys)."""
+        if mech.rebuild is None:
+            return ()
+        if mech.model_full.existJointName("shaft15"):
+            return BEVEL_PARAMS
+        if any(n.startswith("pulley") for n in mech.model_full.names):
+            return BELT_PARAMS
+        return ()
+
+    def report(self, mech: Mechanism, q: np.ndarray) -> AccuracyReport:
+        """The first-order table of :func:`.accuracy.report`."""
+        from rcm_pin.mechanisms.rcm.accuracy import report, row
+
+        return AccuracyReport.of(report(mech, q), row)
+
+
 class RcmFamily(Family):
     """Hooks of the RCM mechanisms (module docstring)."""
 
@@ -159,6 +190,8 @@ class RcmFamily(Family):
         RcmScenarios(),
         RcmWorkspace(),
         RcmMetrics(),
+        RcmSingularity(),
+        RcmAccuracy(),
     )
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
@@ -172,28 +205,6 @@ class RcmFamily(Family):
         regular = mid.copy()
         regular[0], regular[1] = 0.5 * mech.upper[0], 0.8 * mech.upper[1]
         return {"home": home, "mid": mid, "regular": regular}
-
-    def singularity_causes(self, mech: Mechanism, q: np.ndarray) -> list[Cause] | None:
-        """Tool centre at A, output axis along the base axis, wrist axes aligned."""
-        from rcm_pin.mechanisms.rcm.singularity import classify
-
-        return classify(mech, q)
-
-    def accuracy_parameters(self, mech: Mechanism) -> tuple[str, ...]:
-        """The kinematic xacro arguments of the variant (bevel: tooth counts; belt: pulleys)."""
-        if mech.rebuild is None:
-            return ()
-        if mech.model_full.existJointName("shaft15"):
-            return BEVEL_PARAMS
-        if any(n.startswith("pulley") for n in mech.model_full.names):
-            return BELT_PARAMS
-        return ()
-
-    def accuracy_report(self, mech: Mechanism, q: np.ndarray) -> dict[str, Any] | None:
-        """Design parameters and part placements vs tool position and RCM offset."""
-        from rcm_pin.mechanisms.rcm.accuracy import report
-
-        return report(mech, q)
 
 
 FAMILY = RcmFamily()

@@ -24,12 +24,13 @@ model; the two agree to ~1e-5 relative (second-order remainder).
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from typing import Any
 
 import numpy as np
 import pinocchio as pin
 
+from rcm_pin.analysis.accuracy import AccuracyRow, accuracy_model
 from rcm_pin.errors import InvalidInputError
 from rcm_pin.mechanisms.rcm import PLACEMENT_JOINTS
 from rcm_pin.model.mechanism import Mechanism
@@ -72,7 +73,7 @@ def xacro_sensitivity(
     Returns:
         (first-order derivative (9,), function δ -> nonlinear change (9,)).
     """
-    valid = nominal.family.accuracy_parameters(nominal)
+    valid = accuracy_model(nominal).parameters(nominal)
     if param not in valid or nominal.rebuild is None:
         raise InvalidInputError(
             f"xacro parameter {param!r} not in {nominal.name}; valid: {', '.join(valid)}"
@@ -114,7 +115,7 @@ def placement_sensitivity(
 def report(mech: Mechanism, q: FloatArray) -> dict[str, Any]:
     """Sensitivity table: tool-position and RCM-offset change per unit error, and per
     0.1 mm (lengths) / 0.1° (angles) / 0.1 % (ratios: tooth counts, diameters)."""
-    params = mech.family.accuracy_parameters(mech)
+    params = accuracy_model(mech).parameters(mech)
     if mech.rcm is None or not params:
         raise InvalidInputError(
             f"the RCM accuracy table needs an RCM mechanism, got {mech.name}; valid: "
@@ -151,10 +152,16 @@ def _row(parameter: str, kind: str, d: FloatArray, unit: float) -> dict[str, Any
     }
 
 
+def row(r: Mapping[str, Any]) -> AccuracyRow:
+    """A row of :func:`report` in the CLI's one row shape (first order: tool, RCM line)."""
+    return AccuracyRow(r["parameter"], r["kind"], r["tool_per_error"], None, r["rcm_per_error"], r)
+
+
 __all__ = [
     "COMPONENTS",
     "outputs",
     "placement_sensitivity",
     "report",
+    "row",
     "xacro_sensitivity",
 ]

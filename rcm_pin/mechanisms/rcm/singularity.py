@@ -15,9 +15,9 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from rcm_pin.analysis.singularity import RANK_TOL, TASKS, analyse
+from rcm_pin.analysis.singularity_model import Cause
 from rcm_pin.errors import InvalidInputError
 from rcm_pin.mechanisms.rcm.closed_form import wrist_type
-from rcm_pin.model.family import Cause
 from rcm_pin.model.mechanism import Mechanism
 
 

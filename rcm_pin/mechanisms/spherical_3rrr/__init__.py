@@ -45,7 +45,9 @@ from typing import Any
 
 import numpy as np
 
+from rcm_pin.analysis.accuracy import AccuracyModel, AccuracyReport, AccuracyRow
 from rcm_pin.analysis.capabilities import Assemblies, Branches, NumericPosition
+from rcm_pin.analysis.singularity_model import ABMatrices, NumericSingularity
 from rcm_pin.analysis.workspace import WorkspaceModel
 from rcm_pin.errors import SingularConfigurationError, UnreachablePoseError
 from rcm_pin.interfaces.design import DesignMetric, MetricSource
@@ -56,7 +58,7 @@ from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import Output
 from rcm_pin.rotations import matrix_to_rpy
 
-#: Size of each error variable of :meth:`Spherical3RRRFamily.accuracy_report` [rad].
+#: Size of each error variable of :meth:`Spherical3RRRAccuracy.report` [rad].
 ACCURACY_ERROR = float(np.radians(0.5))
 #: Working-mode labels in index order.
 MODES = tuple(f"{w:03b}".replace("0", "+").replace("1", "-") for w in range(8))
@@ -165,6 +167,31 @@ class Spherical3RRRMetrics(MetricSource):
         return dict(METRICS)
 
 
+class Spherical3RRRSingularity(NumericSingularity):
+    """A/B of the loop equations (no named causes, the numeric map)."""
+
+    def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> ABMatrices:
+        """Normalised A and B of the loop equations (:func:`normalised_ab`)."""
+        return ABMatrices(*normalised_ab(geometry(mech), *pose_and_drives(mech, q)), paper=True)
+
+
+class Spherical3RRRAccuracy(AccuracyModel):
+    """Paper 004's linear theory (Cramer) beside the nonlinear re-solve (:mod:`.accuracy`)."""
+
+    def parameters(self, mech: Mechanism) -> tuple[str, ...]:
+        """The link angles θ_i1, θ_i2 (xacro arguments, the paper's error variables)."""
+        return tuple(p for p in accuracy.PARAMETERS if p.startswith("theta"))
+
+    def report(self, mech: Mechanism, q: np.ndarray) -> AccuracyReport:
+        """Linear (Cramer) vs nonlinear output errors for 0.5° in each link angle and each
+        drive angle, drives locked, at the closed configuration q (:mod:`.accuracy`)."""
+        R, phi = pose_and_drives(mech, mech.check_q(q))
+        x = np.array(matrix_to_rpy(R))
+        rows = accuracy.table(geometry(mech), x, phi, ACCURACY_ERROR)
+        table = {"mechanism": mech.name, "q": q, "angles": x, "error": ACCURACY_ERROR, "rows": rows}
+        return AccuracyReport.of(table, AccuracyRow.of_output)
+
+
 class Spherical3RRRFamily(Family):
     """Hooks of the spherical 3-RRR (module docstring)."""
 
@@ -175,27 +202,13 @@ class Spherical3RRRFamily(Family):
         Spherical3RRRPosition(),
         Spherical3RRRWorkspace(),
         Spherical3RRRMetrics(),
+        Spherical3RRRSingularity(),
+        Spherical3RRRAccuracy(),
     )
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
         """``home``: R = I, φ = 0, working mode ``+++`` (every joint angle 0)."""
         return {"home": full_q(mech, np.eye(3), np.zeros(3))}
-
-    def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Normalised A and B of the loop equations (:func:`normalised_ab`)."""
-        return normalised_ab(geometry(mech), *pose_and_drives(mech, q))
-
-    def accuracy_parameters(self, mech: Mechanism) -> tuple[str, ...]:
-        """The link angles θ_i1, θ_i2 (xacro arguments, the paper's error variables)."""
-        return tuple(p for p in accuracy.PARAMETERS if p.startswith("theta"))
-
-    def accuracy_report(self, mech: Mechanism, q: np.ndarray) -> dict[str, Any]:
-        """Linear (Cramer) vs nonlinear output errors for 0.5° in each link angle and each
-        drive angle, drives locked, at the closed configuration q (:mod:`.accuracy`)."""
-        R, phi = pose_and_drives(mech, mech.check_q(q))
-        x = np.array(matrix_to_rpy(R))
-        rows = accuracy.table(geometry(mech), x, phi, ACCURACY_ERROR)
-        return {"mechanism": mech.name, "q": q, "angles": x, "error": ACCURACY_ERROR, "rows": rows}
 
 
 FAMILY = Spherical3RRRFamily()

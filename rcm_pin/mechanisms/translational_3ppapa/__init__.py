@@ -13,7 +13,9 @@ from typing import Any
 
 import numpy as np
 
+from rcm_pin.analysis.accuracy import AccuracyModel, AccuracyReport, AccuracyRow
 from rcm_pin.analysis.capabilities import Assemblies, Branches, DefaultPoses, NumericPosition
+from rcm_pin.analysis.singularity_model import ABMatrices, NumericSingularity
 from rcm_pin.analysis.workspace import WorkspaceModel
 from rcm_pin.errors import InvalidInputError, UnreachablePoseError
 from rcm_pin.mechanisms.translational_3ppapa import accuracy
@@ -163,6 +165,33 @@ class Translational3PPaPaWorkspace(WorkspaceModel):
         return sections_figure(g, Path(path), diagonal_singularity(g), mode)
 
 
+class Translational3PPaPaSingularity(NumericSingularity):
+    """A (paper) and B = I (no named causes, the numeric map)."""
+
+    def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> ABMatrices:
+        """A = ∂F/∂p from the crank angles and B = I (both dimensionless)."""
+        return ABMatrices(a_from_angles(crank_angles(mech, q)), np.eye(3), paper=True)
+
+
+class Translational3PPaPaAccuracy(AccuracyModel):
+    """Paper 004's linear theory beside the nonlinear re-solve (:mod:`.accuracy`)."""
+
+    def parameters(self, mech: Mechanism) -> tuple[str, ...]:
+        """The link lengths l1, l2, l3 (xacro ``side_1``, ``side_2``, ``offset``)."""
+        return ("side_1", "side_2", "offset")
+
+    def report(self, mech: Mechanism, q: np.ndarray) -> AccuracyReport:
+        """1 mm errors in l1, l2, l3, drives locked: the linear theory (Cramer's rule,
+        denominator det A restored) beside the nonlinear re-solve (:mod:`.accuracy`)."""
+        g, qc = geometry(mech), mech.check_q(q)
+        drives = qc[list(mech.require_loops().drive_q)]
+        angles = crank_angles(mech, qc)
+        signs = np.where(np.cos(angles) >= 0.0, 1.0, -1.0)
+        p = platform_point(g, drives, angles)
+        table = {"mechanism": mech.name, "q": qc, **accuracy.report(g, drives, p, signs, angles)}
+        return AccuracyReport.of(table, AccuracyRow.of_output)
+
+
 class Translational3PPaPaFamily(Family):
     """Hooks of the 3-PPaPa: 64 working modes, assembly modes, A (paper) and B = I."""
 
@@ -173,6 +202,8 @@ class Translational3PPaPaFamily(Family):
         Translational3PPaPaPosition(),
         Translational3PPaPaPoses(),
         Translational3PPaPaWorkspace(),
+        Translational3PPaPaSingularity(),
+        Translational3PPaPaAccuracy(),
     )
 
     def configurations(self, mech: Mechanism) -> dict[str, np.ndarray]:
@@ -181,24 +212,6 @@ class Translational3PPaPaFamily(Family):
         _, q, ang = inverse_position(geometry(mech), np.zeros(3))[0]
         _, qr, angr = inverse_position(geometry(mech), np.array(REGULAR))[0]
         return {"home": mech_q(mech, q, ang), "regular": mech_q(mech, qr, angr)}
-
-    def ab_matrices(self, mech: Mechanism, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """A = ∂F/∂p from the crank angles and B = I (both dimensionless)."""
-        return a_from_angles(crank_angles(mech, q)), np.eye(3)
-
-    def accuracy_parameters(self, mech: Mechanism) -> tuple[str, ...]:
-        """The link lengths l1, l2, l3 (xacro ``side_1``, ``side_2``, ``offset``)."""
-        return ("side_1", "side_2", "offset")
-
-    def accuracy_report(self, mech: Mechanism, q: np.ndarray) -> dict[str, Any]:
-        """1 mm errors in l1, l2, l3, drives locked: the linear theory (Cramer's rule,
-        denominator det A restored) beside the nonlinear re-solve (:mod:`.accuracy`)."""
-        g, qc = geometry(mech), mech.check_q(q)
-        drives = qc[list(mech.require_loops().drive_q)]
-        angles = crank_angles(mech, qc)
-        signs = np.where(np.cos(angles) >= 0.0, 1.0, -1.0)
-        p = platform_point(g, drives, angles)
-        return {"mechanism": mech.name, "q": qc, **accuracy.report(g, drives, p, signs, angles)}
 
 
 FAMILY = Translational3PPaPaFamily()
