@@ -52,7 +52,7 @@ from rcm_pin.control.computed_torque import ComputedTorque, Gains, drive_limits
 from rcm_pin.control.references import TRAJECTORIES
 from rcm_pin.control.result import SimulationResult
 from rcm_pin.control.scenario import run, scenarios
-from rcm_pin.control.simulate import simulate
+from rcm_pin.control.simulate import SimulationOptions, simulate
 
 #: Pinocchio functions counted as "inside Pinocchio" (those the plants and laws call).
 PIN_CALLS = (
@@ -240,7 +240,11 @@ def serial_case(duration: float, backend: str = "python") -> Case:
     info = {"mechanism": "rcm_bevel (6 DOF, q3_upper=0.3)",
             "controller": "ComputedTorque, paper000, Kn=720, Kc=12, drive limits",
             "tolerances": [1e-10, 1e-12], "samples": 1001, "backend": backend}  # fmt: skip
-    return info, lambda: simulate(mech, ctrl, duration, backend=backend), mech
+    return (
+        info,
+        lambda: simulate(mech, ctrl, duration, options=SimulationOptions(backend=backend)),
+        mech,
+    )
 
 
 def compiled_costs(duration: float) -> dict[str, Any]:
@@ -269,7 +273,7 @@ def compiled_costs(duration: float) -> dict[str, Any]:
             )
     vm = serial_rhs(mech, ctrl, vm=True)
     assert fresh is not None and hit is not None and vm is not None
-    r = simulate(mech, ctrl, duration, samples=11)
+    r = simulate(mech, ctrl, duration, options=SimulationOptions(samples=11))
     ys = [np.concatenate([q, v]) for q, v in _states(r)]
     law, plant, fast = ctrl.hot_path_law(mech), SerialPlant(mech), compiled_rhs(mech, ctrl)
 
@@ -310,7 +314,7 @@ def _tight(duration: float) -> SimulationResult:
     ctrl = ComputedTorque(
         mech, TRAJECTORIES["paper000"], Gains(720.0, 12.0), limits=drive_limits(mech)
     )
-    return simulate(mech, ctrl, duration, rtol=1e-12, atol=1e-14)
+    return simulate(mech, ctrl, duration, options=SimulationOptions(rtol=1e-12, atol=1e-14))
 
 
 def floors(line: dict[str, Any], pin_us: float, integ: dict[str, Any]) -> dict[str, Any]:

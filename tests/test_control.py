@@ -11,7 +11,7 @@ from rcm_pin.control.computed_torque import ComputedTorque, Gains, drive_limits
 from rcm_pin.control.linear import linear_error
 from rcm_pin.control.plots import plot_deviation, plot_efforts, plot_phase
 from rcm_pin.control.references import TRAJECTORIES, get_trajectory
-from rcm_pin.control.simulate import simulate
+from rcm_pin.control.simulate import SimulationOptions, simulate
 from rcm_pin.control.task import task_kinematics, task_output
 from rcm_pin.dynamics.tree import with_gravity
 from rcm_pin.errors import InvalidInputError, JointLimitError, SingularConfigurationError
@@ -39,7 +39,7 @@ def two_mass():
 def test_perfect_model_matches_linear_error_dynamics(name, feedforward):
     mech = rcm_pin.load(name, q3_upper=0.3)
     ctrl = ComputedTorque(mech, PAPER, GAINS, feedforward=feedforward, limits=drive_limits(mech))
-    r = simulate(mech, ctrl, 0.5, samples=251)
+    r = simulate(mech, ctrl, 0.5, options=SimulationOptions(samples=251))
     assert r.status == "completed" and not r.saturated.any()
     pred = linear_error(GAINS, r.error[0], r.error_rate[0], r.t, None if feedforward else PAPER)
     assert np.abs(pred - r.error).max() < 1e-6
@@ -47,7 +47,7 @@ def test_perfect_model_matches_linear_error_dynamics(name, feedforward):
 
 def test_joint_space_converges(two_mass):
     ctrl = ComputedTorque(two_mass, PAPER, GAINS, space="joint")
-    r = simulate(two_mass, ctrl, 1.5, samples=301)
+    r = simulate(two_mass, ctrl, 1.5, options=SimulationOptions(samples=301))
     assert r.status == "completed"
     assert np.abs(r.steady_error(1.2)).max() < 2e-4
 
@@ -55,15 +55,19 @@ def test_joint_space_converges(two_mass):
 def test_printed_sign_diverges(two_mass):
     ctrl = ComputedTorque(two_mass, PAPER, GAINS, printed_sign=True)
     with pytest.raises(JointLimitError, match=r"^rcm_two_mass leaves its joint range at t = "):
-        simulate(two_mass, ctrl, 1.0, samples=101)
-    r = simulate(two_mass, ctrl, 1.0, samples=101, allow_outside_limits=True)
+        simulate(two_mass, ctrl, 1.0, options=SimulationOptions(samples=101))
+    r = simulate(
+        two_mass, ctrl, 1.0, options=SimulationOptions(samples=101, allow_outside_limits=True)
+    )
     assert r.status.startswith("stopped")
     assert r.t[-1] < 0.5 and r.outside_limits
 
 
 def test_saturation_is_reported(two_mass):
     ctrl = ComputedTorque(two_mass, PAPER, GAINS, limits=np.array([0.5, 0.5, 5.0]))
-    r = simulate(two_mass, ctrl, 0.3, samples=61, allow_outside_limits=True)  # q1 leaves
+    r = simulate(
+        two_mass, ctrl, 0.3, options=SimulationOptions(samples=61, allow_outside_limits=True)
+    )  # q1 leaves
     assert r.saturated.any()
     assert np.abs(r.tau).max(axis=0) == pytest.approx([0.5, 0.5, 5.0])
 
@@ -119,7 +123,9 @@ def test_errors(two_mass):
 
 def test_plots(tmp_path, two_mass):
     mech = with_gravity(two_mass, None)
-    r = simulate(mech, ComputedTorque(mech, PAPER, GAINS), 0.2, samples=41)
+    r = simulate(
+        mech, ComputedTorque(mech, PAPER, GAINS), 0.2, options=SimulationOptions(samples=41)
+    )
     for fn in (plot_deviation, plot_phase, plot_efforts):
         path = fn(r, tmp_path / f"{fn.__name__}.png")
         assert path.stat().st_size > 1000

@@ -7,7 +7,7 @@ import pinocchio as pin
 import pytest
 
 import rcm_pin
-from rcm_pin.control.simulate import simulate
+from rcm_pin.control.simulate import SimulationOptions, simulate
 from rcm_pin.dynamics import tree as dy
 from rcm_pin.errors import InvalidInputError, SingularConfigurationError
 
@@ -120,7 +120,8 @@ def test_free_motion_conserves_energy(g):
     mech = dy.with_gravity(rcm_pin.load("rcm_bevel"), g)
     q0 = np.array([np.pi - 0.3, -0.2, 0.09, 0.5, 0.4, -0.3])  # tool hanging below A
     v0 = np.array([1.0, -1.0, 0.1, 2.0, -1.0, 1.0])
-    r = simulate(mech, None, 1.0, q0=q0, v0=v0, rtol=1e-12, atol=1e-12, allow_outside_limits=True)
+    options = SimulationOptions(rtol=1e-12, atol=1e-12, allow_outside_limits=True)
+    r = simulate(mech, None, 1.0, q0=q0, v0=v0, options=options)
     assert r.status == "completed"  # a physics check: q1 = pi - 0.3 is outside its limits
     E = np.array([dy.total_energy(mech, q, v) for q, v in zip(r.q, r.v)])
     assert np.abs(E - E[0]).max() <= 1e-8 * abs(E[0])

@@ -26,7 +26,7 @@ from rcm_pin.control.backends import COVERS, compiled_rhs, stacked_reference
 from rcm_pin.control.computed_torque import ComputedTorque, Gains, drive_limits
 from rcm_pin.control.hot_path import SerialPlant, reference_function
 from rcm_pin.control.references import TRAJECTORIES, CircleWithAngle
-from rcm_pin.control.simulate import simulate
+from rcm_pin.control.simulate import SimulationOptions, simulate
 from rcm_pin.errors import InvalidInputError
 from rcm_pin.model import kernels
 
@@ -128,10 +128,11 @@ def test_one_library_per_structure_and_one_kernel_per_pair() -> None:
         assert kernels.serial_rhs(mech, a) is None
 
 
-def _bevel_run(backend: str, **kw: object):
+def _bevel_run(backend: str, rtol: float = 1e-10, atol: float = 1e-12):
     mech = _load("rcm_bevel")
     ctrl = ComputedTorque(mech, REF, Gains(720.0, 12.0), limits=drive_limits(mech))
-    return simulate(mech, ctrl, 2.0, samples=201, backend=backend, **kw)  # type: ignore[arg-type]
+    options = SimulationOptions(samples=201, rtol=rtol, atol=atol, backend=backend)
+    return simulate(mech, ctrl, 2.0, options=options)
 
 
 def test_a_compiled_run_is_the_python_run_at_the_integration_tolerance() -> None:
@@ -177,7 +178,7 @@ def test_unsupported_cases_raise_and_name_why() -> None:
             compiled_rhs(mech, ctrl)
         assert str(err.value) == _message(mech.name, why)
     with pytest.raises(InvalidInputError) as err:  # through simulate
-        simulate(ur5, cases[0][1], 0.1, np.zeros(6), backend="compiled")
+        simulate(ur5, cases[0][1], 0.1, np.zeros(6), options=SimulationOptions(backend="compiled"))
     assert str(err.value) == _message("ur5", cases[0][2])
     with kernels.disabled(), pytest.raises(InvalidInputError) as err:
         _bevel_run("compiled")

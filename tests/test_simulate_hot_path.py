@@ -32,7 +32,7 @@ from rcm_pin.control.hot_path import (
     solve,
 )
 from rcm_pin.control.references import TRAJECTORIES, CircleWithAngle
-from rcm_pin.control.simulate import simulate
+from rcm_pin.control.simulate import SimulationOptions, simulate
 from rcm_pin.dynamics import tree
 from rcm_pin.errors import SingularConfigurationError
 
@@ -179,7 +179,7 @@ def test_run_matches_an_integration_of_the_public_functions(bevel: rcm_pin.Mecha
         bevel, TRAJECTORIES["paper000"], Gains(720.0, 12.0), limits=drive_limits(bevel)
     )
     duration, n = 0.3, bevel.nq
-    res = simulate(bevel, ctrl, duration, samples=31)
+    res = simulate(bevel, ctrl, duration, options=SimulationOptions(samples=31))
 
     def rhs(t: float, y: np.ndarray) -> np.ndarray:
         q, v = y[:n], y[n:]

@@ -47,15 +47,32 @@ class KinematicsPass:
         ]
         self.fid, self.rows = output.frame_id, output.rows
 
-    def run(self, q: np.ndarray, v: np.ndarray) -> None:
-        """Forward kinematics (q, q̇, q̈ = 0), joint Jacobians and frame placements."""
+    def closure(self, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(c (m,) [m, rad], J_c (m, nv), γ = J̇_c q̇ (m,)) at (q, q̇)."""
+        self._run(q, v)
+        return self._closure()
+
+    def task(self, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, ...]:
+        """(x, ẋ = J_x q̇, J_x (k, nv), J̇_x q̇) of the output at (q, q̇)."""
+        self._run(q, v)
+        return self._task(v)
+
+    def closure_and_task(
+        self, q: np.ndarray, v: np.ndarray
+    ) -> tuple[tuple[np.ndarray, np.ndarray, np.ndarray], tuple[np.ndarray, ...]]:
+        """:meth:`closure` and :meth:`task` at (q, q̇) from one pass."""
+        self._run(q, v)
+        return self._closure(), self._task(v)
+
+    def _run(self, q: np.ndarray, v: np.ndarray) -> None:
+        """Forward kinematics (q, q̇, q̈ = 0), joint Jacobians and frame placements into
+        this pass's own Data; only the methods above read it, right after."""
         model, data = self.model, self.data
         pin.forwardKinematics(model, data, q, v, self.zero)
         pin.computeJointJacobians(model, data, q)
         pin.updateFramePlacements(model, data)
 
-    def closure(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(c (m,) [m, rad], J_c (m, nv), γ = J̇_c q̇ (m,)) of the last pass."""
+    def _closure(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         model, data = self.model, self.data
         cs, js, gs = [], [], []
         for fa, fb, rows, linear in self.closures:
@@ -74,8 +91,7 @@ class KinematicsPass:
             js.append((ja - jb)[rows])
         return np.concatenate(cs), np.vstack(js), np.concatenate(gs)
 
-    def task(self, v: np.ndarray) -> tuple[np.ndarray, ...]:
-        """(x, ẋ = J_x q̇, J_x (k, nv), J̇_x q̇) of the output of the last pass."""
+    def _task(self, v: np.ndarray) -> tuple[np.ndarray, ...]:
         model, data = self.model, self.data
         jx = pin.getFrameJacobian(model, data, self.fid, LWA)[self.rows]
         acc = pin.getFrameClassicalAcceleration(model, data, self.fid, LWA).vector
@@ -95,8 +111,7 @@ class ClosedPlant:
 
     def accel(self, q: np.ndarray, v: np.ndarray, tau_full: np.ndarray) -> np.ndarray:
         """q̈ (nv,) [rad/s²] under the generalised torques τ (nv,) [N·m]."""
-        self.kin.run(q, v)
-        c, jc, gam = self.kin.closure()
+        c, jc, gam = self.kin.closure(q, v)
         M = np.asarray(pin.crba(self.model, self.data, q, *self.convention))
         M = np.triu(M) + np.triu(M, 1).T
         b = pin.nonLinearEffects(self.model, self.data, q, v)
@@ -131,10 +146,7 @@ class ClosedLaw:
     def _raw(self, t: float, q: np.ndarray, v: np.ndarray) -> np.ndarray:
         """Drive efforts (k,) of the main drives, unclipped [N·m, N]."""
         x_t, v_t, a_t = self.reference(t)
-        kin = self.kin
-        kin.run(q, v)
-        c, jc, gam = kin.closure()
-        x, xd, jx, drift = kin.task(v)
+        (c, jc, gam), (x, xd, jx, drift) = self.kin.closure_and_task(q, v)
         e = self.ctrl.task_error(x_t, x)
         a_star = self.ff * a_t + self.kpos * e + self.kc * (v_t - xd)
         w, z = self.w, self.z
@@ -173,8 +185,7 @@ class ClosedLaw:
                 raw = self._raw(float(t[i]), q[i], v[i])
                 tau = raw if lim is None else np.clip(raw, -lim, lim)
                 out.tau[i], out.saturated[i] = self._full(tau), bool(np.any(tau != raw))
-            self.plant_kin.run(q[i], v[i])
-            out.x[i], out.xd[i] = self.plant_kin.task(v[i])[:2]
+            out.x[i], out.xd[i] = self.plant_kin.task(q[i], v[i])[:2]
         return out
 
 

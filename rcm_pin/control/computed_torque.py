@@ -194,8 +194,7 @@ class ComputedTorque:
         g, ff = self.gains, float(self.feedforward)
         x_t, v_t, a_t = self.reference.evaluate(t)
         if self._kin is None:  # closed mechanism
-            xd, _, _ = cd.output_drift(self.model, q, v, self._task)
-            x = self._task.value(self.model.data.oMf[self._task.frame_id])
+            x, xd, _, _ = cd.output_motion(self.model, q, v, self._task)
             a_star = ff * a_t + self.kpos * self.task_error(x_t, x) + g.kc * (v_t - xd)
             return cd.acceleration_for_output(self.model, q, v, a_star, self.baumgarte, self._task)
         kin, cols = self._kin, self._kin.joints

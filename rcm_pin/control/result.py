@@ -6,6 +6,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+import pinocchio as pin
 
 from rcm_pin.model.mechanism import Mechanism
 
@@ -112,9 +113,9 @@ class SimulationResult:
         kin = controller.kinematics
         if kin is not None:
             return kin.position(q)
-        task = controller.task_output
-        plant.output_value(q)
-        return task.value(plant.data.oMf[task.frame_id])
+        task, model, data = controller.task_output, plant.model, plant.data
+        pin.forwardKinematics(model, data, q)
+        return task.value(pin.updateFramePlacement(model, data, task.frame_id))
 
     @classmethod
     def build(

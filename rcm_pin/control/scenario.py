@@ -20,6 +20,7 @@ from rcm_pin.control.computed_torque import ComputedTorque, DriveSwitching, Gain
 from rcm_pin.control.references import CartesianTrajectory, Reference
 from rcm_pin.control.result import SimulationResult
 from rcm_pin.control.simulate import simulate
+from rcm_pin.control.simulation_options import SimulationOptions
 from rcm_pin.control.task import task_output
 from rcm_pin.errors import InvalidInputError
 from rcm_pin.model.mechanism import Mechanism
@@ -43,6 +44,26 @@ class Scenario:
     atol: float = 1e-12
     max_step: float = np.inf
     samples: int | None = 1001
+
+    def simulation_options(
+        self, mech: Mechanism, *, allow_outside_limits: bool = False, backend: str = "python"
+    ) -> SimulationOptions:
+        """The options of a run of this scenario on ``mech``: its samples, tolerances,
+        method and largest step; the task-error stop (0.5 [m, rad]) on serial plants only.
+
+        Raises:
+            InvalidInputError: an unknown backend.
+        """
+        return SimulationOptions(
+            samples=self.samples,
+            rtol=self.rtol,
+            atol=self.atol,
+            method=self.method,
+            max_step=self.max_step,
+            stop_error=0.5 if mech.loops is None else None,
+            allow_outside_limits=allow_outside_limits,
+            backend=backend,
+        )
 
 
 def home_circle(mech: Mechanism) -> Scenario:
@@ -152,21 +173,10 @@ def run(
     """
     q0, v0 = start_state(mech, sc)
     ctrl = controller(mech, sc, **law)
-    return simulate(
-        mech,
-        ctrl,
-        sc.duration,
-        q0,
-        v0,
-        samples=sc.samples,
-        rtol=sc.rtol,
-        atol=sc.atol,
-        method=sc.method,
-        max_step=sc.max_step,
-        stop_error=0.5 if mech.loops is None else None,
-        allow_outside_limits=allow_outside_limits,
-        backend=backend,
+    options = sc.simulation_options(
+        mech, allow_outside_limits=allow_outside_limits, backend=backend
     )
+    return simulate(mech, ctrl, sc.duration, q0, v0, options)
 
 
 __all__ = ["Scenario", "controller", "home_circle", "run", "scenarios", "start_state"]

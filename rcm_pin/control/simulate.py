@@ -18,8 +18,9 @@ Efforts come from a :class:`~rcm_pin.control.computed_torque.ComputedTorque` (wh
 may differ from the plant) or are zero. The run stops at the family's stop conditions
 (:meth:`~rcm_pin.control.capabilities.ScenarioSource.stop_events`: leaving the regular
 region; serial and closed plants alike), when the task error exceeds ``stop_error`` and
-at any further ``events`` (terminal). Output: every ``samples`` uniform times, or the
-solver's own steps with ``samples=None``.
+at any further ``events`` (terminal); these and the other run options are one
+:class:`~rcm_pin.control.simulation_options.SimulationOptions`. Output: every ``samples``
+uniform times, or the solver's own steps with ``samples=None``.
 
 Joint range: a run that starts or gets outside the plant's joint limits (``plant.lower``,
 ``plant.upper``, 1e-9 slack) stops with a :class:`~rcm_pin.errors.JointLimitError` (CLI
@@ -31,22 +32,26 @@ result records every excursion (``SimulationResult.outside_limits``).
 from __future__ import annotations
 
 import time
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from dataclasses import replace
 from typing import Any
 
 import numpy as np
 
-from rcm_pin.control.backends import check_backend, compiled_rhs
-from rcm_pin.control.capabilities import StopCondition, scenario_source
+from rcm_pin.control.backends import compiled_rhs
+from rcm_pin.control.capabilities import EventFunction, StopCondition, scenario_source
 from rcm_pin.control.closed_hot_path import ClosedPlant
 from rcm_pin.control.computed_torque import ComputedTorque
 from rcm_pin.control.hot_path import SerialPlant, free_samples
 from rcm_pin.control.result import SimulationResult
+from rcm_pin.control.simulation_options import SimulationOptions
 from rcm_pin.errors import InvalidInputError, JointLimitError
 from rcm_pin.model.mechanism import Mechanism
 
 Accel = Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]
+
+#: The default options (a frozen dataclass: one shared instance is safe).
+DEFAULTS = SimulationOptions()
 
 
 def _plant_accel(mech: Mechanism, baumgarte: tuple[float, float]) -> Accel:
@@ -88,17 +93,7 @@ def simulate(
     duration: float,
     q0: np.ndarray | None = None,
     v0: np.ndarray | None = None,
-    samples: int | None = 1001,
-    rtol: float = 1e-10,
-    atol: float = 1e-12,
-    method: str = "DOP853",
-    stop_error: float | None = 0.5,
-    progress: bool = False,
-    max_step: float = np.inf,
-    events: Sequence[StopCondition] = (),
-    baumgarte: tuple[float, float] = (50.0, 1.0),
-    allow_outside_limits: bool = False,
-    backend: str = "python",
+    options: SimulationOptions = DEFAULTS,
 ) -> SimulationResult:
     """Integrate the plant under a controller (or with τ = 0 when ``controller`` is None).
 
@@ -108,41 +103,33 @@ def simulate(
         duration: simulated time [s].
         q0: initial coordinates; default: the task inverse at the reference's start.
         v0: initial velocities; default zero.
-        samples: output samples on a uniform grid (None: the solver's steps).
-        rtol: relative tolerance of ``solve_ivp``.
-        atol: absolute tolerance.
-        method: ``solve_ivp`` method.
-        stop_error: stop when |x_T − x| exceeds this [m, rad] (diverging runs); None: no
-            such stop.
-        progress: show a tqdm bar over simulated time.
-        max_step: largest solver step [s].
-        events: further terminal stop conditions (description, g(t, q, v)).
-        baumgarte: closure stabilisation of a closed plant (ω [rad/s], ζ).
-        allow_outside_limits: continue outside the joint limits and record it
-            (``outside_limits`` of the result) instead of stopping.
-        backend: ``"python"`` or ``"compiled"`` (:mod:`rcm_pin.control.backends`).
+        options: integration and run options (:class:`SimulationOptions`: samples,
+            tolerances, method, stop conditions, closure stabilisation, joint range,
+            backend).
 
     Raises:
-        InvalidInputError: duration ≤ 0, bad q0 / v0, no q0 and no way to find one, an
-            unknown backend, or ``"compiled"`` where it is not available.
+        InvalidInputError: duration ≤ 0, bad q0 / v0, no q0 and no way to find one, or
+            ``"compiled"`` where it is not available (an unknown backend is refused by
+            :class:`SimulationOptions`).
         JointLimitError: the run starts or gets outside the joint limits (module
-            docstring), unless ``allow_outside_limits``.
+            docstring), unless ``options.allow_outside_limits``.
     """
     if not (np.isfinite(duration) and duration > 0):
         raise InvalidInputError(f"duration {duration} is invalid; valid: > 0 [s]")
-    fast = None if check_backend(backend) == "python" else compiled_rhs(plant, controller)
+    o = options
+    fast = None if o.backend == "python" else compiled_rhs(plant, controller)
     n, nv = plant.nq, plant.nv
     if q0 is None:
         if controller is None:
             raise InvalidInputError("q0 is required without a controller")
         q0 = initial_state(plant, controller)
     q0 = plant.check_q(q0, "q0")
-    bounds = [] if allow_outside_limits else _limit_events(plant, q0)
+    bounds = [] if o.allow_outside_limits else _limit_events(plant, q0)
     v0 = np.zeros(nv) if v0 is None else plant.check_v(v0, "v0")
-    accel = _plant_accel(plant, baumgarte)
+    accel = _plant_accel(plant, o.baumgarte)
     law = None if controller is None else controller.hot_path_law(plant)
     bar = None
-    if progress:
+    if o.progress:
         from tqdm import tqdm
 
         bar = tqdm(
@@ -165,25 +152,31 @@ def simulate(
         return np.concatenate((v, accel(q, v, tau_of(t, q, v))))
 
     stops: list[StopCondition] = list(scenario_source(plant).stop_events(plant))
-    if controller is not None and law is not None and stop_error is not None:
-        task, limit, reference = controller.task_output, stop_error, law.reference
+    if controller is not None and law is not None and o.stop_error is not None:
+        ctrl, task, limit, reference = (
+            controller,
+            controller.task_output,
+            o.stop_error,
+            law.reference,
+        )
 
         def error(t: float, q: np.ndarray, v: np.ndarray) -> float:
-            x = SimulationResult.task_value(plant, controller, q)  # type: ignore[arg-type]
+            x = SimulationResult.task_value(plant, ctrl, q)
             return float(limit - np.linalg.norm(reference(t)[0] - x))
 
-        stops.append((f"|e| > {stop_error} {'m' if not task.angular.any() else 'm, rad'}", error))
-    stops += list(events)
-    handlers = []
+        unit = "m" if not task.angular.any() else "m, rad"
+        stops.append((f"|e| > {o.stop_error} {unit}", error))
+    stops += list(o.events)
+    handlers: list[Callable[[float, np.ndarray], float]] = []
     for _, fn in stops:
 
-        def handler(t: float, y: np.ndarray, fn: object = fn) -> float:
-            return fn(t, y[:n], y[n:])  # type: ignore[operator]
+        def handler(t: float, y: np.ndarray, fn: EventFunction = fn) -> float:
+            return fn(t, y[:n], y[n:])
 
         handler.terminal = True  # type: ignore[attr-defined]
         handlers.append(handler)
     handlers += [b[0] for b in bounds]
-    t_eval = None if samples is None else np.linspace(0.0, duration, samples)
+    t_eval = None if o.samples is None else np.linspace(0.0, duration, o.samples)
     from scipy.integrate import solve_ivp  # lazy: scipy.integrate is slow to import
 
     start = time.perf_counter()
@@ -191,12 +184,12 @@ def simulate(
         rhs,
         (0.0, duration),
         np.concatenate([q0, v0]),
-        method=method,
+        method=o.method,
         t_eval=t_eval,
-        rtol=rtol,
-        atol=atol,
+        rtol=o.rtol,
+        atol=o.atol,
         events=handlers or None,
-        max_step=max_step,
+        max_step=o.max_step,
     )
     wall = time.perf_counter() - start
     if bar is not None:
@@ -215,7 +208,7 @@ def simulate(
     result = SimulationResult.build(
         plant, controller, sol.t, q, v, status, wall, int(sol.nfev), samples_at
     )
-    if allow_outside_limits:
+    if o.allow_outside_limits:
         result = replace(result, outside_limits=outside_limits(plant, result.t, result.q))
     return result
 
@@ -289,4 +282,4 @@ def outside_limits(plant: Mechanism, t: np.ndarray, q: np.ndarray) -> tuple[dict
     return tuple(out)
 
 
-__all__ = ["LIMIT_TOL", "initial_state", "outside_limits", "simulate"]
+__all__ = ["LIMIT_TOL", "SimulationOptions", "initial_state", "outside_limits", "simulate"]

@@ -83,10 +83,11 @@ def world_closure(mech: Mechanism, q: np.ndarray, v: np.ndarray) -> tuple[np.nda
     return np.concatenate(cs), np.vstack(js), np.concatenate(gs)
 
 
-def output_drift(
+def output_motion(
     mech: Mechanism, q: np.ndarray, v: np.ndarray, output: Output | None = None
 ) -> tuple[np.ndarray, ...]:
-    """Output rate ẋ = J_x v, Jacobian J_x (k, nv) and drift J̇_x v (k,) of the output frame."""
+    """Output value x (k,), rate ẋ = J_x v, Jacobian J_x (k, nv) and drift J̇_x v (k,),
+    all from one kinematics pass at (q, v)."""
     q, v = _state(mech, q, v)
     model, data = mech.model, mech.data
     out = mech.output if output is None else output
@@ -95,7 +96,14 @@ def output_drift(
     pin.updateFramePlacements(model, data)
     jx = pin.getFrameJacobian(model, data, out.frame_id, LWA)[out.rows]
     acc = pin.getFrameClassicalAcceleration(model, data, out.frame_id, LWA).vector
-    return jx @ v, jx, acc[out.rows]
+    return out.value(data.oMf[out.frame_id]), jx @ v, jx, acc[out.rows]
+
+
+def output_drift(
+    mech: Mechanism, q: np.ndarray, v: np.ndarray, output: Output | None = None
+) -> tuple[np.ndarray, ...]:
+    """Output rate ẋ = J_x v, Jacobian J_x (k, nv) and drift J̇_x v (k,) of the output frame."""
+    return output_motion(mech, q, v, output)[1:]
 
 
 def forward_dynamics(
@@ -222,6 +230,7 @@ __all__ = [
     "forward_dynamics",
     "inverse_dynamics",
     "output_drift",
+    "output_motion",
     "pin_constraint_dynamics",
     "velocity_for_output",
     "world_closure",

@@ -17,7 +17,7 @@ from rcm_pin.control.linear import linear_error
 from rcm_pin.control.plots import plot_deviation, plot_efforts, plot_phase
 from rcm_pin.control.references import TRAJECTORIES
 from rcm_pin.control.result import SimulationResult
-from rcm_pin.control.simulate import simulate
+from rcm_pin.control.simulate import SimulationOptions, simulate
 from rcm_pin.dynamics.tree import inverse_dynamics, with_gravity
 from rcm_pin.mechanisms.rcm.point import joint_reference
 from rcm_pin.mechanisms.rcm.two_mass import two_mass_args
@@ -49,13 +49,17 @@ def _paper_run(feedforward: bool, printed: bool = False, space: str = "task") ->
         printed_sign=printed,
         limits=drive_limits(plant),
     )
-    return simulate(plant, ctrl, DURATION, samples=1501, allow_outside_limits=printed)
+    return simulate(
+        plant, ctrl, DURATION, options=SimulationOptions(samples=1501, allow_outside_limits=printed)
+    )
 
 
 def _robustness() -> list[str]:
     traj = TRAJECTORIES["paper000"]
     true = with_gravity(load_two_mass(0.4, 0.2, L_DEFAULT, q3_upper=0.3))
-    nominal = simulate(true, ComputedTorque(true, traj, GAINS), DURATION, samples=751)
+    nominal = simulate(
+        true, ComputedTorque(true, traj, GAINS), DURATION, options=SimulationOptions(samples=751)
+    )
     rows = [
         "| controller model | RMS error [mm] | change [%] | max steady error t ≥ 2 s [mm] |",
         "| --- | ---: | ---: | ---: |",
@@ -68,7 +72,12 @@ def _robustness() -> list[str]:
             for key in kw if label == "all" else (label,):
                 kw[key] *= s
             model = with_gravity(load_two_mass(q3_upper=0.3, **kw))
-            r = simulate(true, ComputedTorque(model, traj, GAINS), DURATION, samples=751)
+            r = simulate(
+                true,
+                ComputedTorque(model, traj, GAINS),
+                DURATION,
+                options=SimulationOptions(samples=751),
+            )
             change = 100.0 * (r.rms_error() / nominal.rms_error() - 1.0)
             rows.append(
                 f"| {label} × {s:g} | {1e3 * r.rms_error():.4f} | {change:+.2f} "

@@ -35,7 +35,7 @@ import rcm_pin
 from rcm_pin.control.computed_torque import ComputedTorque, Gains
 from rcm_pin.control.linear import error_response
 from rcm_pin.control.references import CartesianTrajectory
-from rcm_pin.control.simulate import simulate
+from rcm_pin.control.simulate import SimulationOptions, simulate
 from rcm_pin.dynamics.constrained import velocity_for_output
 from rcm_pin.errors import SolverError
 from rcm_pin.model.mechanism import Mechanism
@@ -145,11 +145,9 @@ def run(
         s.duration,
         q0,
         v0,
-        samples=s.samples,
-        rtol=s.rtol,
-        atol=s.atol,
-        method="DOP853",
-        stop_error=None,
+        SimulationOptions(
+            samples=s.samples, rtol=s.rtol, atol=s.atol, method="DOP853", stop_error=None
+        ),
     )
     if not res.completed:
         raise SolverError(f"{plant.name}: the control example stopped: {res.status}")

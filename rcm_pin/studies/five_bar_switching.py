@@ -29,6 +29,7 @@ import numpy as np
 from rcm_pin.analysis.loop_velocity import velocity_matrices
 from rcm_pin.control.computed_torque import ComputedTorque, DriveSwitching, Gains
 from rcm_pin.control.references import QuinticPath
+from rcm_pin.control.simulate import SimulationOptions
 from rcm_pin.control.simulate import simulate as simulate_run
 from rcm_pin.dynamics.constrained import (
     acceleration_for_output,
@@ -136,13 +137,15 @@ def simulate(
         ctrl,
         t_end,
         q0,
-        samples=None,
-        rtol=1e-8,
-        atol=1e-10,
-        method="RK45",
-        max_step=max_step,
-        stop_error=None,
-        events=[(f"|tau| > {s.blowup:g} N*m or type-2 measure < 1e-9", blowup)],
+        options=SimulationOptions(
+            samples=None,
+            rtol=1e-8,
+            atol=1e-10,
+            method="RK45",
+            max_step=max_step,
+            stop_error=None,
+            events=[(f"|tau| > {s.blowup:g} N*m or type-2 measure < 1e-9", blowup)],
+        ),
     )
     loops = mech.require_loops()
     return Run(

@@ -24,7 +24,7 @@ from rcm_pin.analysis.position import inverse
 from rcm_pin.control.computed_torque import ComputedTorque, Gains
 from rcm_pin.control.linear import error_response as linear_response
 from rcm_pin.control.references import CircleWithAngle
-from rcm_pin.control.simulate import simulate
+from rcm_pin.control.simulate import SimulationOptions, simulate
 from rcm_pin.dynamics.constrained import (
     acceleration_for_output,
     inverse_dynamics,
@@ -183,12 +183,14 @@ def simulate_tracking(mech: Mechanism, s: TrackingSettings | None = None) -> Tra
         s.duration,
         q0,
         v0,
-        samples=s.samples,
-        rtol=1e-11,
-        atol=1e-13,
-        method="DOP853",
-        stop_error=None,
-        baumgarte=s.baumgarte,
+        SimulationOptions(
+            samples=s.samples,
+            rtol=1e-11,
+            atol=1e-13,
+            method="DOP853",
+            stop_error=None,
+            baumgarte=s.baumgarte,
+        ),
     )
     if not run.completed:
         raise SingularConfigurationError(f"{mech.name}: integration failed: {run.status}")
