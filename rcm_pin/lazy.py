@@ -8,7 +8,8 @@ from __future__ import annotations
 
 import importlib
 import sys
-from collections.abc import Callable, Mapping
+import types
+from collections.abc import Callable, Collection, Mapping
 from functools import cache
 from typing import Any
 
@@ -17,14 +18,16 @@ def lazy_exports(
     package: str, table: Mapping[str, str]
 ) -> tuple[Callable[[str], Any], Callable[[], list[str]]]:
     """The module-level ``__getattr__`` and ``__dir__`` of ``package`` for ``table``
-    (name → submodule of ``package``); a resolved name is cached in the package."""
+    (name → submodule of ``package``, or ``"submodule:attribute"`` to export an attribute
+    under another name); a resolved name is cached in the package."""
     namespace = sys.modules[package].__dict__
 
     def get(name: str) -> Any:
-        module = table.get(name)
-        if module is None:
+        target = table.get(name)
+        if target is None:
             raise AttributeError(f"module {package!r} has no attribute {name!r}")
-        value = getattr(importlib.import_module(f"{package}.{module}"), name)
+        module, _, attribute = target.partition(":")
+        value = getattr(importlib.import_module(f"{package}.{module}"), attribute or name)
         namespace[name] = value
         return value
 
@@ -32,6 +35,24 @@ def lazy_exports(
         return sorted({*namespace, *table})
 
     return get, names
+
+
+def keep_functions(package: str, names: Collection[str]) -> None:
+    """Make each of ``names`` in ``package`` stay the function of that name when the
+    submodule of the same name is imported (the import system sets a loaded submodule as
+    an attribute of its package, which would otherwise shadow the re-exported function)."""
+
+    class _Package(types.ModuleType):
+        def __setattr__(self, name: str, value: object) -> None:
+            if name in names and isinstance(value, types.ModuleType):
+                value = getattr(value, name)
+            super().__setattr__(name, value)
+
+    module = sys.modules[package]
+    module.__class__ = _Package
+    for name in names:  # a submodule imported before the package finished
+        if isinstance(module.__dict__.get(name), types.ModuleType):
+            setattr(module, name, module.__dict__[name])
 
 
 @cache
@@ -43,4 +64,4 @@ def lapack(routine: str) -> Callable[..., Any]:
     return getattr(routines, routine)  # type: ignore[no-any-return]
 
 
-__all__ = ["lapack", "lazy_exports"]
+__all__ = ["keep_functions", "lapack", "lazy_exports"]

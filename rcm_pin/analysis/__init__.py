@@ -6,4 +6,263 @@ Position problems (:mod:`.position`, numeric routes :mod:`.closed_position`,
 :mod:`.closed_singularity`, :mod:`.screws`, :mod:`.maps`, :mod:`.singularity_report`),
 workspace (:mod:`.workspace`), accuracy (:mod:`.accuracy`), mobility (:mod:`.mobility`) and
 the vectorised planar Newton (:mod:`.batch_planar`).
+
+The re-exports below are the public API of the layer (``docs/api.md``), imported on first
+access: ``import rcm_pin`` loads no scipy or matplotlib.
 """
+
+from __future__ import annotations
+
+from typing import TYPE_CHECKING
+
+from rcm_pin.lazy import keep_functions, lazy_exports
+
+if TYPE_CHECKING:
+    from rcm_pin.analysis.accuracy import (
+        AccuracyModel,
+        AccuracyReport,
+        AccuracyRow,
+        PlacementAccuracy,
+        accuracy_model,
+        sensitivities,
+    )
+    from rcm_pin.analysis.capabilities import (
+        Assemblies,
+        Branches,
+        DefaultPoses,
+        NumericPosition,
+        PositionSolver,
+        ReferencePoses,
+        position_solver,
+        reference_poses,
+    )
+    from rcm_pin.analysis.closed_position import (
+        direct_position_multistart,
+        direct_position_path,
+    )
+    from rcm_pin.analysis.closed_singularity import (
+        configuration_report,
+        drive_singularities,
+        pose_singularities,
+    )
+    from rcm_pin.analysis.jacobians import (
+        jacobian_derivative,
+        tool_jacobian,
+    )
+    from rcm_pin.analysis.kinematics import (
+        frame_pose,
+        rcm_error,
+        tool_pose,
+        tool_poses,
+    )
+    from rcm_pin.analysis.loop_velocity import (
+        Classification,
+        VelocityMatrices,
+        classify,
+        closure_jacobian,
+        passive_velocity,
+        velocity_matrices,
+    )
+    from rcm_pin.analysis.maps import (
+        plot_singularity_map,
+        singularity_map,
+    )
+    from rcm_pin.analysis.mobility import (
+        MobilityCount,
+        mobility,
+    )
+    from rcm_pin.analysis.position import (
+        PositionResult,
+        PositionSolution,
+        forward,
+        inverse,
+    )
+    from rcm_pin.analysis.screws import (
+        ScrewTest,
+        screw_test,
+    )
+    from rcm_pin.analysis.singularity import (
+        JacobianAnalysis,
+        analyse,
+        analyse_jacobian,
+    )
+    from rcm_pin.analysis.singularity import (
+        causes as singularity_causes,
+    )
+    from rcm_pin.analysis.singularity import (
+        grid as singularity_grid,
+    )
+    from rcm_pin.analysis.singularity import (
+        measure as singularity_measure,
+    )
+    from rcm_pin.analysis.singularity_model import (
+        ABMatrices,
+        Cause,
+        DetMap,
+        NumericSingularity,
+        SingularityModel,
+        singularity_model,
+    )
+    from rcm_pin.analysis.velocity import (
+        ToolMotion,
+        inverse_acceleration,
+        inverse_velocity,
+    )
+    from rcm_pin.analysis.velocity import (
+        forward as forward_velocity,
+    )
+    from rcm_pin.analysis.workspace import (
+        NumericWorkspace,
+        WorkspaceModel,
+        output_points,
+        sample_joints,
+        volume_voxels,
+        workspace_model,
+    )
+    from rcm_pin.analysis.workspace import (
+        plot as plot_workspace,
+    )
+    from rcm_pin.analysis.workspace import (
+        summary as workspace_summary,
+    )
+
+#: public name -> submodule (or ``submodule:attribute`` where the name differs)
+_LAZY = {
+    "ABMatrices": "singularity_model",
+    "AccuracyModel": "accuracy",
+    "AccuracyReport": "accuracy",
+    "AccuracyRow": "accuracy",
+    "Assemblies": "capabilities",
+    "Branches": "capabilities",
+    "Cause": "singularity_model",
+    "Classification": "loop_velocity",
+    "DefaultPoses": "capabilities",
+    "DetMap": "singularity_model",
+    "JacobianAnalysis": "singularity",
+    "MobilityCount": "mobility",
+    "NumericPosition": "capabilities",
+    "NumericSingularity": "singularity_model",
+    "NumericWorkspace": "workspace",
+    "PlacementAccuracy": "accuracy",
+    "PositionResult": "position",
+    "PositionSolution": "position",
+    "PositionSolver": "capabilities",
+    "ReferencePoses": "capabilities",
+    "ScrewTest": "screws",
+    "SingularityModel": "singularity_model",
+    "ToolMotion": "velocity",
+    "VelocityMatrices": "loop_velocity",
+    "WorkspaceModel": "workspace",
+    "accuracy_model": "accuracy",
+    "analyse": "singularity",
+    "analyse_jacobian": "singularity",
+    "classify": "loop_velocity",
+    "closure_jacobian": "loop_velocity",
+    "configuration_report": "closed_singularity",
+    "direct_position_multistart": "closed_position",
+    "direct_position_path": "closed_position",
+    "drive_singularities": "closed_singularity",
+    "forward": "position",
+    "forward_velocity": "velocity:forward",
+    "frame_pose": "kinematics",
+    "inverse": "position",
+    "inverse_acceleration": "velocity",
+    "inverse_velocity": "velocity",
+    "jacobian_derivative": "jacobians",
+    "mobility": "mobility",
+    "output_points": "workspace",
+    "passive_velocity": "loop_velocity",
+    "plot_singularity_map": "maps",
+    "plot_workspace": "workspace:plot",
+    "pose_singularities": "closed_singularity",
+    "position_solver": "capabilities",
+    "rcm_error": "kinematics",
+    "reference_poses": "capabilities",
+    "sample_joints": "workspace",
+    "screw_test": "screws",
+    "sensitivities": "accuracy",
+    "singularity_causes": "singularity:causes",
+    "singularity_grid": "singularity:grid",
+    "singularity_map": "maps",
+    "singularity_measure": "singularity:measure",
+    "singularity_model": "singularity_model",
+    "tool_jacobian": "jacobians",
+    "tool_pose": "kinematics",
+    "tool_poses": "kinematics",
+    "velocity_matrices": "loop_velocity",
+    "volume_voxels": "workspace",
+    "workspace_model": "workspace",
+    "workspace_summary": "workspace:summary",
+}
+
+__getattr__, __dir__ = lazy_exports(__name__, _LAZY)
+# the functions named like their submodules stay the functions
+keep_functions(__name__, {"mobility", "singularity_model"})
+
+__all__ = [
+    "ABMatrices",
+    "AccuracyModel",
+    "AccuracyReport",
+    "AccuracyRow",
+    "Assemblies",
+    "Branches",
+    "Cause",
+    "Classification",
+    "DefaultPoses",
+    "DetMap",
+    "JacobianAnalysis",
+    "MobilityCount",
+    "NumericPosition",
+    "NumericSingularity",
+    "NumericWorkspace",
+    "PlacementAccuracy",
+    "PositionResult",
+    "PositionSolution",
+    "PositionSolver",
+    "ReferencePoses",
+    "ScrewTest",
+    "SingularityModel",
+    "ToolMotion",
+    "VelocityMatrices",
+    "WorkspaceModel",
+    "accuracy_model",
+    "analyse",
+    "analyse_jacobian",
+    "classify",
+    "closure_jacobian",
+    "configuration_report",
+    "direct_position_multistart",
+    "direct_position_path",
+    "drive_singularities",
+    "forward",
+    "forward_velocity",
+    "frame_pose",
+    "inverse",
+    "inverse_acceleration",
+    "inverse_velocity",
+    "jacobian_derivative",
+    "mobility",
+    "output_points",
+    "passive_velocity",
+    "plot_singularity_map",
+    "plot_workspace",
+    "pose_singularities",
+    "position_solver",
+    "rcm_error",
+    "reference_poses",
+    "sample_joints",
+    "screw_test",
+    "sensitivities",
+    "singularity_causes",
+    "singularity_grid",
+    "singularity_map",
+    "singularity_measure",
+    "singularity_model",
+    "tool_jacobian",
+    "tool_pose",
+    "tool_poses",
+    "velocity_matrices",
+    "volume_voxels",
+    "workspace_model",
+    "workspace_summary",
+]

@@ -16,7 +16,15 @@ from rcm_pin.lazy import lazy_exports
 
 if TYPE_CHECKING:
     from rcm_pin.design.execute import SweepResult, run
-    from rcm_pin.design.study import Constraint, Design, Study, Vary, designs, validate
+    from rcm_pin.design.study import (
+        Constraint,
+        Design,
+        Study,
+        Vary,
+        designs,
+        parse_constraint,
+        validate,
+    )
 
 #: The re-exports, imported on first access (PEP 562): a study is described with
 #: :mod:`.study` alone; running it (:mod:`.execute`) needs the ``[design]`` extra.
@@ -27,6 +35,7 @@ _LAZY = {
     "SweepResult": "execute",
     "Vary": "study",
     "designs": "study",
+    "parse_constraint": "study",
     "run": "execute",
     "validate": "study",
 }
@@ -35,4 +44,14 @@ _LAZY = {
 __getattr__, __dir__ = lazy_exports(__name__, _LAZY)
 
 
-__all__ = ["Constraint", "Design", "Study", "SweepResult", "Vary", "designs", "run", "validate"]
+__all__ = [
+    "Constraint",
+    "Design",
+    "Study",
+    "SweepResult",
+    "Vary",
+    "designs",
+    "parse_constraint",
+    "run",
+    "validate",
+]

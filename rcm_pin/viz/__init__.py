@@ -15,7 +15,7 @@
   shading, painter's order).
 """
 
-from rcm_pin.viz.snapshot import picture
+from rcm_pin.viz.snapshot import picture, snapshot
 from rcm_pin.viz.viewer import Viewer
 
-__all__ = ["Viewer", "picture"]
+__all__ = ["Viewer", "picture", "snapshot"]
