@@ -10,6 +10,7 @@ import json
 import re
 import subprocess
 import sys
+import types
 from pathlib import Path
 
 import pytest
@@ -99,6 +100,27 @@ def test_every_public_name_has_a_docstring(facade):
     assert package.__all__ == sorted(set(package.__all__), key=package.__all__.index)
     missing = [n for n in package.__all__ if not api_doc.summary(package, n)]
     assert not missing, f"{facade}: no docstring for {missing}"
+
+
+#: Re-exports named like a submodule of their façade, each kept the function by
+#: ``rcm_pin.lazy.keep_functions`` (``rcm_pin.control.simulate``: the README's API).
+SHADOWING = {("rcm_pin.control", "simulate")}
+
+
+@pytest.mark.parametrize("facade", api_doc.FACADES)
+def test_no_public_name_hides_a_submodule(facade):
+    """A re-export named like a submodule makes ``facade.name`` the object, not the module,
+    so ``monkeypatch.setattr("facade.name.attr")`` and ``import facade.name as m`` break."""
+    import pkgutil
+
+    package = importlib.import_module(facade)
+    submodules = {m.name for m in pkgutil.iter_modules(package.__path__)}
+    clashes = {
+        (facade, n)
+        for n in package.__all__
+        if n in submodules and not isinstance(getattr(package, n), types.ModuleType)
+    }
+    assert clashes <= SHADOWING, sorted(clashes - SHADOWING)
 
 
 def _python_sources(path: Path) -> list[str]:

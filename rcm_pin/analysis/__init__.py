@@ -15,7 +15,7 @@ from __future__ import annotations
 
 from typing import TYPE_CHECKING
 
-from rcm_pin.lazy import keep_functions, lazy_exports
+from rcm_pin.lazy import lazy_exports
 
 if TYPE_CHECKING:
     from rcm_pin.analysis.accuracy import (
@@ -69,7 +69,6 @@ if TYPE_CHECKING:
     )
     from rcm_pin.analysis.mobility import (
         MobilityCount,
-        mobility,
     )
     from rcm_pin.analysis.position import (
         PositionResult,
@@ -101,7 +100,6 @@ if TYPE_CHECKING:
         DetMap,
         NumericSingularity,
         SingularityModel,
-        singularity_model,
     )
     from rcm_pin.analysis.velocity import (
         ToolMotion,
@@ -169,7 +167,6 @@ _LAZY = {
     "inverse_acceleration": "velocity",
     "inverse_velocity": "velocity",
     "jacobian_derivative": "jacobians",
-    "mobility": "mobility",
     "output_points": "workspace",
     "passive_velocity": "loop_velocity",
     "plot_singularity_map": "maps",
@@ -185,7 +182,6 @@ _LAZY = {
     "singularity_grid": "singularity:grid",
     "singularity_map": "maps",
     "singularity_measure": "singularity:measure",
-    "singularity_model": "singularity_model",
     "tool_jacobian": "jacobians",
     "tool_pose": "kinematics",
     "tool_poses": "kinematics",
@@ -195,9 +191,9 @@ _LAZY = {
     "workspace_summary": "workspace:summary",
 }
 
+# No re-export is named like a submodule (it would hide the module): ``mobility`` is
+# ``rcm_pin.mobility``; the singularity resolver is imported from its module.
 __getattr__, __dir__ = lazy_exports(__name__, _LAZY)
-# the functions named like their submodules stay the functions
-keep_functions(__name__, {"mobility", "singularity_model"})
 
 __all__ = [
     "ABMatrices",
@@ -241,7 +237,6 @@ __all__ = [
     "inverse_acceleration",
     "inverse_velocity",
     "jacobian_derivative",
-    "mobility",
     "output_points",
     "passive_velocity",
     "plot_singularity_map",
@@ -257,7 +252,6 @@ __all__ = [
     "singularity_grid",
     "singularity_map",
     "singularity_measure",
-    "singularity_model",
     "tool_jacobian",
     "tool_pose",
     "tool_poses",

@@ -15,7 +15,9 @@
   shading, painter's order).
 """
 
-from rcm_pin.viz.snapshot import picture, snapshot
+from rcm_pin.viz.snapshot import picture
 from rcm_pin.viz.viewer import Viewer
 
-__all__ = ["Viewer", "picture", "snapshot"]
+# No re-export named like a submodule (it would hide the module: rcm_pin.viz.snapshot stays
+# the module, its function is imported from it).
+__all__ = ["Viewer", "picture"]
