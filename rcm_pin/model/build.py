@@ -40,7 +40,7 @@ def parse_models(urdf: str, name: str) -> tuple[pin.Model, pin.Model]:
         model = pin.buildModelFromXML(text, mimic=True)
         model_full = pin.buildModelFromXML(text)
     except (RuntimeError, ValueError) as exc:
-        raise InvalidInputError(f"{name}: Pinocchio cannot parse the URDF: {exc}") from None
+        raise InvalidInputError(jt.parse_failure(text, name, exc)) from None
     jt.unbound(model, unbounded)
     jt.unbound(model_full, unbounded)
     return model, model_full

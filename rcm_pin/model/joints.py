@@ -219,12 +219,41 @@ def from_pin(q_pin: np.ndarray, q_index: np.ndarray, continuous: np.ndarray) -> 
     return q
 
 
+def parse_failure(urdf: str, name: str, exc: Exception) -> str:
+    """The message for URDF text Pinocchio refused: the mimic joint at fault when that is
+    the cause (a primary missing from the file, or one Pinocchio meets after its follower
+    in its depth-first walk, so the mimic model cannot be built), else Pinocchio's text."""
+    root = ET.fromstring(urdf)
+    names = [j.get("name", "") for j in root.iter("joint")]
+    try:
+        order = list(pin.buildModelFromXML(urdf).names)
+    except (RuntimeError, ValueError):
+        order = []
+    for joint in root.iter("joint"):
+        tag, follower = joint.find("mimic"), joint.get("name", "")
+        primary = "" if tag is None else tag.get("joint", "")
+        if tag is not None and primary not in names:
+            return (
+                f"{name}: joint {follower!r} mimics {primary!r}, which the URDF does not have; "
+                "valid: a <mimic joint=...> naming one of its joints"
+            )
+        later = primary in order and follower in order
+        if tag is not None and later and order.index(primary) > order.index(follower):
+            return (
+                f"{name}: joint {follower!r} mimics {primary!r}, which Pinocchio meets "
+                "after it in its depth-first walk of the tree; valid: a primary on the "
+                "follower's path from the root or on an earlier branch"
+            )
+    return f"{name}: Pinocchio cannot parse the URDF: {exc}"
+
+
 __all__ = [
     "Coordinates",
     "check_joints",
     "coordinates",
     "from_pin",
     "is_continuous",
+    "parse_failure",
     "revolute_mimics",
     "to_pin",
     "unbound",

@@ -1,0 +1,285 @@
+"""Every joint a URDF can hold (docs/joints.md): one coordinate per independent joint,
+continuous joints one unbounded angle (cos/sin inside the Mechanism), continuous mimic
+pairs, floating / planar joints refused by name.
+
+References are plain Pinocchio on the URDF file, with the (cos θ, sin θ) pairs and the
+mimic joints' angles built here from the angles."""
+
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pinocchio as pin
+import pytest
+from conftest import EXACT, SOLVER
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+import rcm_pin
+from rcm_pin.analysis.jacobians import tool_jacobian
+from rcm_pin.cli import main
+from rcm_pin.control import SimulationOptions, simulate
+from rcm_pin.dynamics import forward_dynamics, inverse_dynamics, mass_matrix, total_energy
+from rcm_pin.errors import InvalidInputError, UnsupportedJointError
+from rcm_pin.mechanisms.arms import robots_dir
+
+ERD = robots_dir()
+KINOVA = ERD / "kinova_description/robots/kinova.urdf"
+PENDULUM = ERD / "double_pendulum_description/urdf/double_pendulum_continuous.urdf"
+DATA = Path(__file__).parent / "data"
+SMALL = DATA / "continuous_joints.urdf"
+PARALLELOGRAM = DATA / "double_parallelogram_continuous.urdf"
+#: mimic joints of the fixtures: follower -> (primary, multiplier, offset), as written there
+MIMICS = {
+    SMALL: {"cont_follower": ("cont_primary", -2.0, 0.3), "rev_follower": ("rev", 0.5, -0.1)},
+    PARALLELOGRAM: {
+        "pitch_bottom_joint": ("pitch", -1.0, 0.0),
+        "pitch_end_joint": ("pitch", 1.0, 0.0),
+        "pitch_top_joint": ("pitch", -1.0, 0.0),
+        "shaft_pitch_joint": ("pitch", 1.0, 0.0),
+    },
+}
+CASES = [
+    (KINOVA, "j2s6s200_end_effector"),
+    (PENDULUM, "link2"),
+    (SMALL, "tool_link"),
+    (PARALLELOGRAM, "tool_link"),
+]
+_LOADED: dict[Path, rcm_pin.Mechanism] = {}
+
+
+def mech_of(path: Path, tool: str) -> rcm_pin.Mechanism:
+    if path not in _LOADED:
+        _LOADED[path] = rcm_pin.load(str(path), tool_frame=tool)
+    return _LOADED[path]
+
+
+def plain(path: Path, angles: dict[str, float]) -> tuple[pin.Model, np.ndarray]:
+    """Pinocchio's no-mimic model of the file and its q: every joint from its angle or
+    its mimic relation, a continuous joint as (cos, sin)."""
+    model = pin.buildModelFromUrdf(str(path))
+    q = pin.neutral(model)
+    for name, (primary, k, off) in MIMICS.get(path, {}).items():
+        angles = {**angles, name: k * angles[primary] + off}
+    for j in range(1, model.njoints):
+        jm, a = model.joints[j], angles[model.names[j]]
+        if jm.nq == 2:
+            q[jm.idx_q : jm.idx_q + 2] = math.cos(a), math.sin(a)
+        else:
+            q[jm.idx_q] = a
+    return model, q
+
+
+def sample(mech: rcm_pin.Mechanism, rng: np.random.Generator) -> np.ndarray:
+    lo = np.where(np.isfinite(mech.lower), mech.lower, -3 * np.pi)
+    hi = np.where(np.isfinite(mech.upper), mech.upper, 3 * np.pi)
+    return rng.uniform(lo, hi)
+
+
+@pytest.mark.parametrize(("path", "tool"), CASES, ids=lambda c: getattr(c, "stem", c))
+def test_one_coordinate_per_independent_joint(path, tool):
+    mech = mech_of(path, tool)
+    model = pin.buildModelFromUrdf(str(path))
+    independent = [
+        model.names[j]
+        for j in range(1, model.njoints)
+        if model.names[j] not in MIMICS.get(path, {})
+    ]
+    assert mech.joint_names == tuple(independent) and mech.nq == mech.nv == len(independent)
+    for k, name in enumerate(mech.joint_names):
+        if model.joints[model.getJointId(name)].nq == 2:  # continuous: one unbounded angle
+            assert (mech.lower[k], mech.upper[k]) == (-np.inf, np.inf) and mech.revolute[k]
+
+
+@pytest.mark.parametrize(("path", "tool"), CASES, ids=lambda c: getattr(c, "stem", c))
+def test_pose_equals_plain_pinocchio(path, tool):
+    mech = mech_of(path, tool)
+    rng = np.random.default_rng(7)
+    for _ in range(20):
+        q = sample(mech, rng)
+        model, qp = plain(path, dict(zip(mech.joint_names, q, strict=True)))
+        data = model.createData()
+        pin.framesForwardKinematics(model, data, qp)
+        expected = data.oMf[model.getFrameId(tool)].homogeneous
+        pose = rcm_pin.tool_pose(mech, q)
+        assert np.abs(pose - expected).max() < EXACT
+        assert abs(np.linalg.det(pose[:3, :3]) - 1.0) < EXACT
+
+
+@settings(max_examples=50, deadline=None)
+@given(st.lists(st.floats(-50.0, 50.0), min_size=2, max_size=2))
+def test_continuous_angles_round_trip(angles):
+    """Any angle: to_pin writes (cos, sin), from_pin reads it back modulo 2π."""
+    mech = mech_of(PENDULUM, "link2")
+    q = np.array(angles)
+    qp = mech.to_pin(q)
+    assert np.abs(qp - np.array([np.cos(q), np.sin(q)]).T.ravel()).max() < EXACT
+    back = mech.from_pin(qp)
+    assert np.abs(np.angle(np.exp(1j * (back - q)))).max() < 1e-11
+    assert np.all(np.abs(back) <= np.pi)
+
+
+@pytest.mark.parametrize(("path", "tool"), CASES, ids=lambda c: getattr(c, "stem", c))
+def test_jacobian_matches_finite_differences(path, tool):
+    mech = mech_of(path, tool)
+    q, h = sample(mech, np.random.default_rng(3)), 1e-6
+    J = tool_jacobian(mech, q)
+    for k in range(mech.nq):
+        dq = np.zeros(mech.nq)
+        dq[k] = h
+        Tp, Tm = rcm_pin.tool_pose(mech, q + dq), rcm_pin.tool_pose(mech, q - dq)
+        lin = (Tp[:3, 3] - Tm[:3, 3]) / (2 * h)
+        ang = pin.log3(Tp[:3, :3] @ Tm[:3, :3].T) / (2 * h)
+        assert np.abs(J[:, k] - np.concatenate([lin, ang])).max() < 1e-7
+
+
+def test_kinova_inverse_round_trip():
+    mech = mech_of(KINOVA, "j2s6s200_end_effector")
+    q = np.array([0.4, 2.5, 2.0, -1.0, 2.2, 0.7])
+    target = rcm_pin.tool_pose(mech, q)
+    result = rcm_pin.inverse(mech, target)
+    assert result.count >= 1
+    for sol in result.solutions:
+        assert np.abs(rcm_pin.tool_pose(mech, sol.q) - target).max() < SOLVER
+
+
+def _projection(path: Path, mech: rcm_pin.Mechanism, model: pin.Model) -> np.ndarray:
+    """G_v (nv_full, n) of the mimic relations, written from MIMICS."""
+    Gv = np.zeros((model.nv, mech.nv))
+    for j in range(1, model.njoints):
+        name = model.names[j]
+        primary, k, _ = MIMICS.get(path, {}).get(name, (name, 1.0, 0.0))
+        Gv[model.joints[j].idx_v, mech.joint_names.index(primary)] = k
+    return Gv
+
+
+@pytest.mark.parametrize(("path", "tool"), CASES, ids=lambda c: getattr(c, "stem", c))
+def test_dynamics_equal_plain_pinocchio(path, tool):
+    """M = G_vᵀ M_full G_v and τ = G_vᵀ RNEA_full (virtual work; G_v = I without mimic)."""
+    mech = mech_of(path, tool)
+    rng = np.random.default_rng(11)
+    q, v, a = sample(mech, rng), rng.normal(size=mech.nv), rng.normal(size=mech.nv)
+    model, qp = plain(path, dict(zip(mech.joint_names, q, strict=True)))
+    data, Gv = model.createData(), _projection(path, mech, model)
+    M_full = pin.crba(model, data, qp)
+    M_full = np.triu(M_full) + np.triu(M_full, 1).T
+    tau = Gv.T @ pin.rnea(model, data, qp, Gv @ v, Gv @ a)
+    M = Gv.T @ M_full @ Gv
+    assert np.abs(mass_matrix(mech, q) - M).max() < EXACT * max(1.0, np.abs(M).max())
+    assert np.abs(inverse_dynamics(mech, q, v, a) - tau).max() < 1e-10
+    assert np.abs(forward_dynamics(mech, q, v, inverse_dynamics(mech, q, v, a)) - a).max() < 1e-9
+
+
+def test_passive_double_pendulum_keeps_its_energy():
+    """simulate integrates the angles (unbounded) of a continuous double pendulum."""
+    mech = mech_of(PENDULUM, "link2")
+    q0, v0 = np.array([1.0, -0.5]), np.array([0.0, 3.0])
+    r = simulate(mech, None, 1.0, q0, v0, SimulationOptions(samples=21, rtol=1e-10, atol=1e-10))
+    energy = [total_energy(mech, q, v) for q, v in zip(r.q, r.v, strict=True)]
+    assert r.completed and max(energy) - min(energy) < 1e-7 * abs(energy[0])
+
+
+def test_parallelogram_keeps_its_remote_centre():
+    """The shaft line (z of shaft_link) passes through A = rcm_point for every configuration."""
+    mech = mech_of(PARALLELOGRAM, "tool_link")
+    rng = np.random.default_rng(5)
+    for _ in range(20):
+        q = sample(mech, rng)
+        shaft, a = (
+            rcm_pin.frame_pose(mech, q, "shaft_link"),
+            rcm_pin.frame_pose(mech, q, "rcm_point"),
+        )
+        offset = a[:3, 3] - shaft[:3, 3]
+        assert np.linalg.norm(np.cross(shaft[:3, 2], offset)) < EXACT
+
+
+def test_continuous_mimic_parsed_as_unbounded_revolute():
+    """The rewritten model has the kinematics of the file's (FK above); its followers take
+    no coordinate and its models carry infinite limits, never the placeholder."""
+    mech = mech_of(SMALL, "tool_link")
+    assert mech.joint_names == ("rev", "cont", "cont_primary", "slide")
+    assert mech.continuous.tolist() == [1]  # cont: (cos, sin) in Pinocchio's q
+    for model in (mech.model, mech.model_full):
+        jm = model.joints[model.getJointId("cont_primary")]
+        assert (jm.nq, jm.nv) == (1, 1)
+        assert model.lowerPositionLimit[jm.idx_q] == -np.inf
+        assert (model.effortLimit[jm.idx_v], model.velocityLimit[jm.idx_v]) == (5.0, 2.0)
+
+
+def _robot(joint: str) -> str:
+    return (
+        '<robot name="r"><link name="a"/><link name="b"/><link name="c"/>'
+        '<joint name="hinge" type="revolute"><parent link="a"/><child link="b"/>'
+        '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>'
+        f'<joint name="base" type="{joint}"><parent link="b"/><child link="c"/></joint></robot>'
+    )
+
+
+@pytest.mark.parametrize(("kind", "sizes"), [("floating", "nq=7, nv=6"), ("planar", "nq=4, nv=3")])
+def test_floating_and_planar_joints_refused_by_name(kind, sizes):
+    with pytest.raises(UnsupportedJointError) as err:
+        rcm_pin.from_urdf(_robot(kind), name="r", tool_frame="c")
+    assert str(err.value) == (
+        f"r: joint 'base' is {kind} ({sizes}); valid: revolute, continuous, prismatic, fixed "
+        "or mimic joints (write a floating or planar base as a chain of prismatic and "
+        "revolute joints)"
+    )
+    assert isinstance(err.value, InvalidInputError)
+
+
+def test_robot_without_name_refused_with_reason():
+    """example-robot-data's ur3.urdf is a xacro macro file rendered without a robot."""
+    with pytest.raises(InvalidInputError, match=r"<robot name=\.\.\.> with at least one <link>"):
+        rcm_pin.load(str(ERD / "ur_description/urdf/ur3.urdf"), tool_frame="tool0")
+
+
+def test_cli_fk_and_ik_on_kinova_by_path(capsys):
+    q = [0.4, 2.5, 2.0, -1.0, 2.2, 0.7]
+    argv = ["fk", str(KINOVA), "--tool-frame", "j2s6s200_end_effector"]
+    code = main([*argv, "--q", ",".join(map(str, q)), "--json"])
+    payload = json.loads(capsys.readouterr().out)
+    pose = np.array(payload["solutions"][0]["pose"])
+    mech = mech_of(KINOVA, "j2s6s200_end_effector")
+    assert code == 0 and np.abs(pose - rcm_pin.tool_pose(mech, np.array(q))).max() < EXACT
+    assert abs(np.linalg.det(pose[:3, :3]) - 1.0) < EXACT
+    assert payload["joint_names"] == list(mech.joint_names)
+    target = ";".join(",".join(repr(float(x)) for x in row) for row in pose[:3])
+    code = main(
+        ["ik", str(KINOVA), "--tool-frame", "j2s6s200_end_effector", "--pose", target, "--json"]
+    )
+    payload = json.loads(capsys.readouterr().out)
+    assert code == 0 and payload["count"] >= 1
+    for sol in payload["solutions"]:
+        assert np.abs(rcm_pin.tool_pose(mech, np.array(sol["q"])) - pose).max() < SOLVER
+
+
+def _mimic_robot(primary: str, follower: str) -> str:
+    """Two branches from the base: joint ``p`` and ``follower`` mimicking ``primary``
+    (Pinocchio walks sibling branches in the order of their joint names)."""
+    limit = '<axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/>'
+    return (
+        '<robot name="r"><link name="a"/><link name="b"/><link name="c"/>'
+        f'<joint name="p" type="revolute"><parent link="a"/><child link="b"/>{limit}</joint>'
+        f'<joint name="{follower}" type="revolute"><parent link="a"/><child link="c"/>{limit}'
+        f'<mimic joint="{primary}"/></joint></robot>'
+    )
+
+
+def test_mimic_failures_name_the_joints():
+    with pytest.raises(InvalidInputError) as err:
+        rcm_pin.from_urdf(_mimic_robot("nope", "f"), name="r", tool_frame="c")
+    assert str(err.value) == (
+        "r: joint 'f' mimics 'nope', which the URDF does not have; valid: a <mimic joint=...> "
+        "naming one of its joints"
+    )
+    with pytest.raises(InvalidInputError) as err:
+        rcm_pin.from_urdf(_mimic_robot("p", "f"), name="r", tool_frame="c")
+    assert str(err.value) == (
+        "r: joint 'f' mimics 'p', which Pinocchio meets after it in its depth-first walk of the "
+        "tree; valid: a primary on the follower's path from the root or on an earlier branch"
+    )
+    mech = rcm_pin.from_urdf(_mimic_robot("p", "z"), name="r", tool_frame="c")
+    assert mech.joint_names == ("p",)
