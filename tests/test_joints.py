@@ -22,7 +22,15 @@ import rcm_pin
 from rcm_pin.analysis.jacobians import tool_jacobian
 from rcm_pin.cli import main
 from rcm_pin.control import SimulationOptions, simulate
-from rcm_pin.dynamics import forward_dynamics, inverse_dynamics, mass_matrix, total_energy
+from rcm_pin.dynamics import (
+    coriolis_matrix,
+    forward_dynamics,
+    gravity,
+    inverse_dynamics,
+    mass_matrix,
+    nonlinear_effects,
+    total_energy,
+)
 from rcm_pin.errors import InvalidInputError, UnsupportedJointError
 from rcm_pin.mechanisms.arms import robots_dir
 
@@ -136,6 +144,31 @@ def test_jacobian_matches_finite_differences(path, tool):
         assert np.abs(J[:, k] - np.concatenate([lin, ang])).max() < 1e-7
 
 
+@pytest.mark.parametrize(("path", "tool"), CASES, ids=lambda c: getattr(c, "stem", c))
+def test_no_mimic_model_through_the_coupling_is_the_file(path, tool):
+    """Every frame of mech.model_full at q_full = G q + offset (continuous joints of mimic
+    pairs there unbounded revolute) and of the mimic model is where the file puts it."""
+    mech = mech_of(path, tool)
+    rng = np.random.default_rng(13)
+    for _ in range(10):
+        q = sample(mech, rng)
+        model, qp = plain(path, dict(zip(mech.joint_names, q, strict=True)))
+        data = model.createData()
+        pin.framesForwardKinematics(model, data, qp)
+        for m, x in (
+            (mech.model_full, mech.coupling.q_full(mech.to_pin(q))),
+            (mech.model, mech.to_pin(q)),
+        ):
+            d = m.createData()
+            pin.framesForwardKinematics(m, d, x)
+            for f in model.frames:
+                got = d.oMf[m.getFrameId(f.name, f.type)].homogeneous
+                assert (
+                    np.abs(got - data.oMf[model.getFrameId(f.name, f.type)].homogeneous).max()
+                    < EXACT
+                )
+
+
 def test_kinova_inverse_round_trip():
     mech = mech_of(KINOVA, "j2s6s200_end_effector")
     q = np.array([0.4, 2.5, 2.0, -1.0, 2.2, 0.7])
@@ -168,6 +201,9 @@ def test_dynamics_equal_plain_pinocchio(path, tool):
     M_full = np.triu(M_full) + np.triu(M_full, 1).T
     tau = Gv.T @ pin.rnea(model, data, qp, Gv @ v, Gv @ a)
     M = Gv.T @ M_full @ Gv
+    assert np.array_equal(mech.coupling.Gv, Gv)  # the coupling of continuous joints too
+    C, g = coriolis_matrix(mech, q, v), gravity(mech, q)
+    assert np.abs(C @ v + g - nonlinear_effects(mech, q, v)).max() < 1e-10
     assert np.abs(mass_matrix(mech, q) - M).max() < EXACT * max(1.0, np.abs(M).max())
     assert np.abs(inverse_dynamics(mech, q, v, a) - tau).max() < 1e-10
     assert np.abs(forward_dynamics(mech, q, v, inverse_dynamics(mech, q, v, a)) - a).max() < 1e-9
