@@ -319,3 +319,29 @@ def test_mimic_failures_name_the_joints():
     )
     mech = rcm_pin.from_urdf(_mimic_robot("p", "z"), name="r", tool_frame="c")
     assert mech.joint_names == ("p",)
+
+
+def test_casadi_twin_writes_cos_sin():
+    """The compiled right-hand side's map (ocp.kernels.serial_rhs) is the Mechanism's."""
+    import casadi as ca
+
+    from ocp.kernels.serial_rhs import _to_pin
+
+    mech = mech_of(KINOVA, "j2s6s200_end_effector")
+    q, v = ca.SX.sym("q", mech.nq), ca.SX.sym("v", mech.nv)
+    qp, vp = _to_pin(mech, q, v)
+    f = ca.Function("to_pin", [q, v], [qp, vp])
+    x, xd = np.random.default_rng(2).normal(size=(2, mech.nq)) * 4.0
+    got_q, got_v = (np.asarray(a).ravel() for a in f(x, xd))
+    assert np.abs(got_q - mech.to_pin(x)).max() < EXACT
+    assert np.abs(got_v - mech.v_pin(xd)).max() < EXACT
+
+
+def test_workspace_samples_one_turn_of_a_continuous_joint():
+    from rcm_pin.analysis.workspace import sample_joints
+
+    mech = mech_of(KINOVA, "j2s6s200_end_effector")
+    qs = sample_joints(mech, 500, seed=1)
+    cont = mech.continuous
+    assert cont.tolist() == [0, 3, 5]
+    assert np.all(np.abs(qs[:, cont]) <= np.pi) and np.ptp(qs[:, cont], axis=0).min() > 5.0
