@@ -209,6 +209,17 @@ def test_dynamics_equal_plain_pinocchio(path, tool):
     assert np.abs(forward_dynamics(mech, q, v, inverse_dynamics(mech, q, v, a)) - a).max() < 1e-9
 
 
+def test_simulation_hot_path_is_the_dynamics():
+    """simulate's hot path (cos/sin written for the continuous joints) on kinova."""
+    from rcm_pin.control.hot_path import SerialPlant
+
+    mech = mech_of(KINOVA, "j2s6s200_end_effector")
+    rng = np.random.default_rng(17)
+    q, v, tau = sample(mech, rng), rng.normal(size=mech.nv), rng.normal(size=mech.nv)
+    expected = forward_dynamics(mech, q, v, tau)
+    assert np.abs(SerialPlant(mech).accel(q, v, tau) - expected).max() < 1e-9
+
+
 def test_passive_double_pendulum_keeps_its_energy():
     """simulate integrates the angles (unbounded) of a continuous double pendulum."""
     mech = mech_of(PENDULUM, "link2")
@@ -345,3 +356,12 @@ def test_workspace_samples_one_turn_of_a_continuous_joint():
     cont = mech.continuous
     assert cont.tolist() == [0, 3, 5]
     assert np.all(np.abs(qs[:, cont]) <= np.pi) and np.ptp(qs[:, cont], axis=0).min() > 5.0
+
+
+def test_cli_refuses_a_planar_joint_with_exit_2(capsys, tmp_path):
+    path = tmp_path / "planar_base.urdf"
+    path.write_text(_robot("planar"))
+    code = main(["fk", str(path), "--tool-frame", "c", "--q", "0.1", "--json"])
+    error = json.loads(capsys.readouterr().out)["error"]
+    assert code == 2 and error["type"] == "UnsupportedJointError"
+    assert error["message"].startswith("planar_base: joint 'base' is planar (nq=4, nv=3)")
