@@ -365,3 +365,18 @@ def test_cli_refuses_a_planar_joint_with_exit_2(capsys, tmp_path):
     error = json.loads(capsys.readouterr().out)["error"]
     assert code == 2 and error["type"] == "UnsupportedJointError"
     assert error["message"].startswith("planar_base: joint 'base' is planar (nq=4, nv=3)")
+
+
+def test_casadi_model_of_a_continuous_mimic_file_is_the_mechanism():
+    """ocp.models.model_from_urdf parses as rcm_pin.load: the CasADi twin's pose of the
+    double parallelogram's tool is the Mechanism's."""
+    from ocp.models import model_from_urdf
+    from ocp.symbolic import SymbolicModel
+
+    mech = mech_of(PARALLELOGRAM, "tool_link")
+    sm = SymbolicModel(model_from_urdf(PARALLELOGRAM))
+    place = sm.frame_placement(mech.tool_frame_id)
+    q = sample(mech, np.random.default_rng(19))
+    p, R = (np.asarray(x) for x in place(mech.to_pin(q)))
+    pose = rcm_pin.tool_pose(mech, q)
+    assert np.abs(p.ravel() - pose[:3, 3]).max() < EXACT and np.abs(R - pose[:3, :3]).max() < EXACT

@@ -69,10 +69,10 @@ def revolute_mimics(urdf: str, name: str = "URDF") -> tuple[str, frozenset[str]]
         )
     joints = {j.attrib.get("name", ""): j for j in root.iter("joint")}
     paired: set[str] = set()
-    for name, joint in joints.items():
+    for jname, joint in joints.items():
         tag = joint.find("mimic")
         if tag is not None:
-            paired |= {name, tag.attrib.get("joint", "")}
+            paired |= {jname, tag.attrib.get("joint", "")}
     names = frozenset(n for n in paired if n in joints and joints[n].get("type") == "continuous")
     if not names:
         return urdf, names
