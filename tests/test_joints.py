@@ -118,6 +118,23 @@ def test_pose_equals_plain_pinocchio(path, tool):
 
 
 @settings(max_examples=50, deadline=None)
+@given(st.lists(st.floats(-50.0, 50.0), min_size=6, max_size=6))
+def test_kinova_pose_at_any_angles_is_plain_pinocchio(angles):
+    """Any real angles (continuous joints unbounded, revolute ones outside their limits
+    too): the pose is Pinocchio's at (cos θ, sin θ), 2π-periodic in each continuous angle."""
+    mech, tool = mech_of(KINOVA, "j2s6s200_end_effector"), "j2s6s200_end_effector"
+    q = np.array(angles)
+    model, qp = plain(KINOVA, dict(zip(mech.joint_names, q, strict=True)))
+    data = model.createData()
+    pin.framesForwardKinematics(model, data, qp)
+    pose = rcm_pin.tool_pose(mech, q)
+    assert np.abs(pose - data.oMf[model.getFrameId(tool)].homogeneous).max() < EXACT
+    turned = q.copy()
+    turned[mech.continuous] += 2 * np.pi
+    assert np.abs(rcm_pin.tool_pose(mech, turned) - pose).max() < 1e-11
+
+
+@settings(max_examples=50, deadline=None)
 @given(st.lists(st.floats(-50.0, 50.0), min_size=2, max_size=2))
 def test_continuous_angles_round_trip(angles):
     """Any angle: to_pin writes (cos, sin), from_pin reads it back modulo 2π."""
