@@ -397,3 +397,25 @@ def test_casadi_model_of_a_continuous_mimic_file_is_the_mechanism():
     p, R = (np.asarray(x) for x in place(mech.to_pin(q)))
     pose = rcm_pin.tool_pose(mech, q)
     assert np.abs(p.ravel() - pose[:3, 3]).max() < EXACT and np.abs(R - pose[:3, :3]).max() < EXACT
+
+
+def test_papers_order_with_a_continuous_joint():
+    """<rcm_pin coordinates=...> in another order: the continuous joint keeps its angle."""
+    element = '<rcm_pin tool_frame="tool_link" coordinates="slide cont rev {}"/></robot>'
+    text = SMALL.read_text().replace("</robot>", element.format("cont_primary"))
+    mech = rcm_pin.from_urdf(text, name="reordered")
+    base = mech_of(SMALL, "tool_link")
+    assert mech.joint_names == ("slide", "cont", "rev", "cont_primary")
+    assert mech.continuous.tolist() == [1] and mech.lower[1] == -np.inf
+    q = sample(base, np.random.default_rng(23))
+    reordered = q[[3, 1, 0, 2]]
+    assert np.abs(rcm_pin.tool_pose(mech, reordered) - rcm_pin.tool_pose(base, q)).max() < EXACT
+    with pytest.raises(InvalidInputError, match="cont_follower have no coordinate"):
+        rcm_pin.from_urdf(SMALL.read_text().replace("</robot>", element.format("cont_follower")))
+
+
+def test_duplicate_names_are_named():
+    text = SMALL.read_text().replace('name="slide"', 'name="cont"')
+    with pytest.raises(InvalidInputError) as err:
+        rcm_pin.from_urdf(text, name="twice", tool_frame="tool_link")
+    assert str(err.value) == "twice: joint name 'cont' is used twice; valid: unique joint names"

@@ -220,11 +220,15 @@ def from_pin(q_pin: np.ndarray, q_index: np.ndarray, continuous: np.ndarray) -> 
 
 
 def parse_failure(urdf: str, name: str, exc: Exception) -> str:
-    """The message for URDF text Pinocchio refused: the mimic joint at fault when that is
-    the cause (a primary missing from the file, or one Pinocchio meets after its follower
-    in its depth-first walk, so the mimic model cannot be built), else Pinocchio's text."""
+    """The message for URDF text Pinocchio refused: a name used twice, or the mimic joint at
+    fault (a primary missing from the file, or one Pinocchio meets after its follower in
+    its depth-first walk, so the mimic model cannot be built), else Pinocchio's text."""
     root = ET.fromstring(urdf)
     names = [j.get("name", "") for j in root.iter("joint")]
+    for kind, used in (("joint", names), ("link", [k.get("name", "") for k in root.iter("link")])):
+        twice = sorted({n for n in used if used.count(n) > 1})
+        if twice:
+            return f"{name}: {kind} name {twice[0]!r} is used twice; valid: unique {kind} names"
     try:
         order = list(pin.buildModelFromXML(urdf).names)
     except (RuntimeError, ValueError):
