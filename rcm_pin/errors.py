@@ -40,6 +40,10 @@ class InvalidInputError(RcmPinError, ValueError):
     """An input array of the wrong shape or with NaN / infinite entries."""
 
 
+class UnsupportedJointError(InvalidInputError):
+    """A URDF joint a Mechanism has no coordinates for (``floating``, ``planar``)."""
+
+
 class NotARotationError(RcmPinError, ValueError):
     """A matrix that is too far from a rotation matrix to be projected onto one."""
 
@@ -117,6 +121,7 @@ __all__ = [
     "UnknownFrameError",
     "UnknownMechanismError",
     "UnreachablePoseError",
+    "UnsupportedJointError",
     "XacroArgumentError",
     "require",
 ]
