@@ -163,3 +163,29 @@ def test_urdf_check_fails_on_a_stray_file(shipped_copy, capsys):
         "stale": ["0123abcd.urdf"],
         "strays": ["0123abcd.urdf"],
     }
+
+
+def test_package_and_environment_lookups_are_part_of_the_entry(cache, tmp_path, monkeypatch):
+    (tmp_path / "pkg_a").mkdir()
+    (tmp_path / "pkg_a" / "package.xml").write_text("<package><name>pkg_a</name></package>")
+    (tmp_path / "pkg_a" / "part.xacro").write_text(PART.format(name="from_a"))
+    main = tmp_path / "m.urdf.xacro"
+    main.write_text(
+        '<robot name="$(optenv RCM_PIN_TEST_NAME plain)" '
+        'xmlns:xacro="http://www.ros.org/wiki/xacro">'
+        '<xacro:include filename="$(find pkg_a)/part.xacro"/><xacro:part/></robot>'
+    )
+    monkeypatch.delenv("RCM_PIN_TEST_NAME", raising=False)
+    monkeypatch.setenv("ROS_PACKAGE_PATH", str(tmp_path / "pkg_a"))
+    assert '<robot name="plain">' in render_xacro(main)
+    monkeypatch.setenv("RCM_PIN_TEST_NAME", "named")
+    assert '<robot name="named">' in render_xacro(main)
+    document = json.loads(_entry_named(cache, main))
+    assert document["finds"] == [["pkg_a", str((tmp_path / "pkg_a").resolve())]]
+    assert document["env"] == [["RCM_PIN_TEST_NAME", "named"]]
+
+
+def _entry_named(cache: Path, main: Path) -> str:
+    (entry,) = cache.glob("*.json")
+    assert str(main.resolve()) in entry.read_text()
+    return entry.read_text()

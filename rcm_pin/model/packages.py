@@ -173,28 +173,55 @@ def package_search(
     return PackageSearch(tuple(declared), None if near is None else Path(near))
 
 
-@contextlib.contextmanager
-def find_hook(search: PackageSearch) -> Iterator[dict[str, Path]]:
-    """xacro's ``$(find pkg)`` answered by ``search`` while the block runs.
+@dataclass(frozen=True)
+class XacroReads:
+    """What xacro's substitutions looked up during one render.
 
-    Yields the packages found, name -> folder (filled as xacro asks). Not thread-safe:
-    xacro keeps its state in module globals (callers hold a lock).
+    Attributes:
+        found: package -> folder of every ``$(find pkg)`` answered.
+        env: variable -> value (None: unset) of every ``$(env)`` / ``$(optenv)`` read.
+    """
+
+    found: dict[str, Path]
+    env: dict[str, str | None]
+
+
+@contextlib.contextmanager
+def find_hook(search: PackageSearch) -> Iterator[XacroReads]:
+    """xacro's ``$(find pkg)`` answered by ``search`` while the block runs, and every
+    lookup of packages and environment variables recorded (:class:`XacroReads`, filled as
+    xacro asks). Not thread-safe: xacro keeps its state in module globals (callers hold a
+    lock).
     """
     from xacro import substitution_args as sa  # type: ignore[attr-defined]
 
-    found: dict[str, Path] = {}
+    reads = XacroReads({}, {})
+    env, optenv = sa._eval_env, sa._eval_optenv
 
     def find(name: str) -> str:
-        found[name] = search.find(name)
-        return str(found[name])
+        reads.found[name] = search.find(name)
+        return str(reads.found[name])
 
-    saved = sa._eval_find, sa._eval_dict["find"]
-    sa._eval_find = sa._eval_dict["find"] = find
+    def read_env(name: str) -> str:
+        reads.env[name] = os.environ.get(name)
+        return str(env(name))
+
+    def read_optenv(name: str, default: str = "") -> str:
+        reads.env[name] = os.environ.get(name)
+        return str(optenv(name, default))
+
+    names = ("find", "env", "optenv")
+    saved = [getattr(sa, f"_eval_{n}") for n in names], [sa._eval_dict[n] for n in names]
+    for name, hook in zip(names, (find, read_env, read_optenv), strict=True):
+        setattr(sa, f"_eval_{name}", hook)
+        sa._eval_dict[name] = hook
     try:
-        yield found
+        yield reads
     finally:
-        sa._eval_find, sa._eval_dict["find"] = saved
+        for name, module_level, in_eval in zip(names, *saved, strict=True):
+            setattr(sa, f"_eval_{name}", module_level)
+            sa._eval_dict[name] = in_eval
 
 
 __all__ = ["PackageSearch", "crawl", "find_hook", "installed_prefix", "package_name"]
-__all__ += ["package_search"]
+__all__ += ["XacroReads", "package_search"]

@@ -117,7 +117,7 @@ def _run_xacro(
     """xacro on ``p``: the URDF text and what it read."""
     import xacro  # local import: xacro is slow to import and not needed for cached reads
 
-    with _XACRO_LOCK, find_hook(search) as found:
+    with _XACRO_LOCK, find_hook(search) as reads:
         xacro.all_includes.clear()  # type: ignore[attr-defined]
         try:
             document = xacro.process_file(str(p), mappings=text_args)  # type: ignore[attr-defined]
@@ -131,7 +131,8 @@ def _run_xacro(
                 f"xacro failed on {p.name} (arguments given: {given}): {first}"
             ) from exc
         read = {str(p.resolve()), *(str(Path(f).resolve()) for f in xacro.all_includes)}  # type: ignore[attr-defined]
-        finds = tuple(sorted((name, str(folder)) for name, folder in found.items()))
+        finds = tuple(sorted((name, str(folder)) for name, folder in reads.found.items()))
+        env = tuple(sorted(reads.env.items()))
     urdf = _strip_banner(document.toprettyxml(indent="  "))
     deps = tuple((f, file_digest(f) or "") for f in sorted(read))
-    return urdf, render_cache.Rendering(urdf, deps, finds)
+    return urdf, render_cache.Rendering(urdf, deps, finds, env)

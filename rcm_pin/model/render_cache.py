@@ -3,9 +3,10 @@
 An entry is found by a key of the main file (its absolute path and content), the sorted
 arguments and the package search (:meth:`rcm_pin.model.packages.PackageSearch.key`). It
 records what the render depended on: the SHA-256 of every file xacro read (its includes and
-YAML files, wherever they are) and the folder of every ``$(find)`` package. An entry is
-served only when all of them still hold, so editing an included file in another folder, or
-a package that now resolves elsewhere, renders again, in this process or a new one.
+YAML files, wherever they are), the folder of every ``$(find)`` package and the value of
+every ``$(env)`` / ``$(optenv)`` variable. An entry is served only when all of them still
+hold: an edited include in another folder, a package that now resolves elsewhere or a
+changed variable renders again, in this process or a new one.
 
 On disk (``$RCM_PIN_CACHE/xacro-renders/<key>.json``, default ``~/.cache/rcm-pin``) an
 entry carries the SHA-256 of its own contents: an entry that is truncated, edited or
@@ -45,15 +46,18 @@ class Rendering:
         urdf: the URDF text.
         deps: (absolute path, SHA-256) of every file xacro read, the main file included.
         finds: (package, folder) of every ``$(find)`` answered.
+        env: (variable, value or None when unset) of every ``$(env)`` / ``$(optenv)``.
     """
 
     urdf: str
     deps: tuple[tuple[str, str], ...]
     finds: tuple[tuple[str, str], ...] = ()
+    env: tuple[tuple[str, str | None], ...] = ()
 
     def payload(self) -> dict[str, object]:
         """The JSON fields of the entry (without its checksum)."""
-        return {"format": FORMAT, "urdf": self.urdf, "deps": self.deps, "finds": self.finds}
+        return {"format": FORMAT, "urdf": self.urdf, "deps": self.deps, "finds": self.finds,
+                "env": self.env}  # fmt: skip
 
 
 _memory: dict[str, Rendering] = {}
@@ -113,6 +117,8 @@ def current(entry: Rendering, search: PackageSearch) -> bool:
     """Whether every file and package the render read is still as it was."""
     if any(file_digest(path) != sha for path, sha in entry.deps):
         return False
+    if any(os.environ.get(name) != value for name, value in entry.env):
+        return False
     try:
         return all(str(search.find(name)) == folder for name, folder in entry.finds)
     except LookupError:
@@ -122,13 +128,14 @@ def current(entry: Rendering, search: PackageSearch) -> bool:
 def _read_disk(disk: Path) -> Rendering | None:
     try:
         document = json.loads(disk.read_text())
-        fields = {k: document[k] for k in ("format", "urdf", "deps", "finds")}
+        fields = {k: document[k] for k in ("format", "urdf", "deps", "finds", "env")}
         if document.get("sha256") != _checksum(fields) or fields["format"] != FORMAT:
             raise ValueError("its checksum does not match its contents")
         return Rendering(
             str(fields["urdf"]),
             tuple((str(p), str(s)) for p, s in fields["deps"]),
             tuple((str(n), str(f)) for n, f in fields["finds"]),
+            tuple((str(n), None if v is None else str(v)) for n, v in fields["env"]),
         )
     except (OSError, UnicodeDecodeError, ValueError, KeyError, TypeError) as exc:
         reason = "not valid JSON" if isinstance(exc, json.JSONDecodeError) else str(exc)
