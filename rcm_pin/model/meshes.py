@@ -22,7 +22,7 @@ from __future__ import annotations
 
 import re
 import warnings
-from collections.abc import Iterable
+from collections.abc import Callable, Iterable
 from pathlib import Path
 from xml.sax.saxutils import escape, unescape
 
@@ -52,24 +52,42 @@ def _inside(path: Path, roots: Iterable[Path]) -> bool:
     return any(path == r or r in path.parents for r in roots)
 
 
-def _in_found_package(path: Path, search: PackageSearch) -> bool:
+def _memo(search: PackageSearch) -> Callable[[str], Path]:
+    """``search.find`` remembering answers and failures (one search per package a load)."""
+    answers: dict[str, Path | LookupError] = {}
+
+    def find(name: str) -> Path:
+        if name not in answers:
+            try:
+                answers[name] = search.find(name).resolve()
+            except LookupError as exc:
+                answers[name] = exc
+        answer = answers[name]
+        if isinstance(answer, LookupError):
+            raise answer
+        return answer
+
+    return find
+
+
+def _in_found_package(path: Path, find: Callable[[str], Path]) -> bool:
     """Whether ``path`` lies in a package the search finds at that folder (a file named
     through ``$(find pkg)``, which xacro renders as an absolute path)."""
     for folder in path.parents:
         name = package_name(folder)
         if name is not None:
             try:
-                return search.find(name).resolve() == folder
+                return find(name) == folder
             except LookupError:
                 return False
     return False
 
 
-def _target(uri: str, base: Path | None, search: PackageSearch) -> tuple[Path, Path | None]:
+def _target(uri: str, base: Path | None, find: Callable[[str], Path]) -> tuple[Path, Path | None]:
     """(resolved file, its package folder) of a mesh URI (LookupError: package not found)."""
     if uri.startswith("package://"):
         name, _, rest = uri[len("package://") :].partition("/")
-        folder = search.find(name).resolve()
+        folder = find(name)
         return (folder / rest).resolve(), folder
     path = Path(uri[len("file://") :] if uri.startswith("file://") else uri).expanduser()
     if not path.is_absolute():
@@ -104,6 +122,7 @@ def resolve_meshes(
     if source is not None:
         roots.append(description_root(source))
     base = source.resolve().parent if source is not None else None
+    find = _memo(search)
 
     def rewrite(match: re.Match[str]) -> str:
         uri = unescape(match.group(3), {"&quot;": '"', "&apos;": "'"})
@@ -112,11 +131,11 @@ def resolve_meshes(
         ):
             return match.group(0)  # another scheme: left to the viewer, which warns
         try:
-            path, package = _target(uri, base, search)
+            path, package = _target(uri, base, find)
         except LookupError:
             return match.group(0)
         allowed = roots + ([package] if package is not None else [])
-        if not _inside(path, allowed) and not _in_found_package(path, search):
+        if not _inside(path, allowed) and not _in_found_package(path, find):
             where = f"the folders of {source}" if source is not None else "no folder (URDF text)"
             raise MeshLocationError(
                 f"mesh {uri!r} ({path}) is outside the description's folders ({where}) and "
