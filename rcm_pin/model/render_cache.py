@@ -61,6 +61,7 @@ class Rendering:
 
 
 _memory: dict[str, Rendering] = {}
+_redirected: set[str] = set()
 
 
 def file_digest(path: str | Path) -> str | None:
@@ -97,13 +98,15 @@ def render_dir() -> Path:
     root = Path(os.environ.get("RCM_PIN_CACHE", default))
     resolved = root.resolve()
     inside = [p for p in _protected() if resolved == p or p in resolved.parents]
-    if inside:
+    if inside and str(root) not in _redirected:
+        _redirected.add(str(root))  # said once a process
         warnings.warn(
             f"RCM_PIN_CACHE={root} is inside {inside[0]} (the shipped models or their "
             f"checkout); renders cached in {default} instead",
             CacheWarning,
             stacklevel=3,
         )
+    if inside:
         root = default
     return root / "xacro-renders"
 
