@@ -191,3 +191,18 @@ def _entry_named(cache: Path, main: Path) -> str:
     (entry,) = cache.glob("*.json")
     assert str(main.resolve()) in entry.read_text()
     return entry.read_text()
+
+
+def test_cli_truncated_entry_is_a_warning_not_a_bad_xacro(tmp_path):
+    env = {**os.environ, "RCM_PIN_CACHE": str(tmp_path), "PYTHONPATH": str(ROOT)}
+    argv = [sys.executable, "-m", "rcm_pin", "fk", "rcm_bevel", "--q=0.1,0.2,0.08,0,0.3,0"]
+    first = subprocess.run([*argv, "--json"], env=env, capture_output=True, text=True)
+    assert first.returncode == 0, first.stderr
+    (entry,) = (tmp_path / "xacro-renders").glob("*.json")
+    entry.write_text(entry.read_text()[:3000])
+    again = subprocess.run([*argv, "--json"], env=env, capture_output=True, text=True)
+    assert again.returncode == 0 and json.loads(again.stdout) == json.loads(first.stdout)
+    assert again.stderr == (
+        f"rcm-pin: warning: render cache entry {entry} is damaged (not valid JSON); "
+        "rendered again and replaced\n"
+    )
