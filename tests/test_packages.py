@@ -211,3 +211,13 @@ def test_cli_mesh_outside_and_bad_package_dir_exit_2(tmp_path):
     run = _cli("view", str(path), "--package-dir", "nonsense", "--json")
     assert run.returncode == 2
     assert "NAME=PATH" in json.loads(run.stdout)["error"]["message"]
+
+
+def test_crawl_skips_ignored_folders_and_survives_link_cycles(tmp_path):
+    from rcm_pin.model.packages import crawl
+
+    shutil.copytree(WS / "parts", tmp_path / "root" / "a" / "parts")
+    shutil.copytree(WS / "parts", tmp_path / "root" / "b" / "parts")
+    (tmp_path / "root" / "b" / "CATKIN_IGNORE").touch()
+    (tmp_path / "root" / "a" / "loop").symlink_to(tmp_path / "root")
+    assert list(crawl(tmp_path / "root")) == [("arm_parts", tmp_path / "root" / "a" / "parts")]

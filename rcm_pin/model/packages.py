@@ -48,9 +48,12 @@ def package_name(folder: Path) -> str | None:
 
 
 def crawl(root: Path) -> Iterator[tuple[str, Path]]:
-    """(name, folder) of every package under ``root``, as rospack crawls ROS_PACKAGE_PATH."""
+    """(name, folder) of every package under ``root``, as rospack crawls ROS_PACKAGE_PATH
+    (symbolic links followed, each real folder once)."""
+    seen: set[str] = set()
     for here, dirs, files in os.walk(root, followlinks=True):
-        if any(marker in files for marker in _IGNORE):
+        real = os.path.realpath(here)
+        if real in seen or any(marker in files for marker in _IGNORE):
             dirs[:] = []
             continue
         if "package.xml" in files:
@@ -59,6 +62,7 @@ def crawl(root: Path) -> Iterator[tuple[str, Path]]:
             if name:
                 yield name, Path(here)
             continue
+        seen.add(real)
         dirs[:] = sorted(d for d in dirs if not d.startswith("."))
 
 
