@@ -44,6 +44,16 @@ class UnsupportedJointError(InvalidInputError):
     """A URDF joint a Mechanism has no coordinates for (``floating``, ``planar``)."""
 
 
+class PackageNotFoundError(RcmPinError, LookupError):
+    """A ROS package (``$(find pkg)``, ``package://pkg/...``) found in no searched folder;
+    the message names it and ``--package-dir`` / ``package_dirs=``."""
+
+
+class MeshLocationError(RcmPinError, ValueError):
+    """A mesh file outside the description's folders and the declared ones; the message
+    names ``--mesh-dir`` / ``mesh_dirs=``, which allow it."""
+
+
 class NotARotationError(RcmPinError, ValueError):
     """A matrix that is too far from a rotation matrix to be projected onto one."""
 
@@ -112,8 +122,10 @@ __all__ = [
     "EXTRAS",
     "InvalidInputError",
     "JointLimitError",
+    "MeshLocationError",
     "MissingExtraError",
     "NotARotationError",
+    "PackageNotFoundError",
     "RcmPinError",
     "SingularConfigurationError",
     "SnapshotError",

@@ -9,10 +9,15 @@ names.
 A path's tool frame comes from the ``tool_frame`` argument, else the file's ``<rcm_pin>``
 element, else its YAML sidecar (same stem, ``.yaml``); otherwise loading fails with the
 candidate frames listed, never a guess.
+
+ROS packages (``$(find pkg)``, ``package://pkg/...``) are found as
+:mod:`rcm_pin.model.packages` says, first in ``package_dirs``; mesh files must lie where
+the description lives or in ``mesh_dirs`` (:mod:`rcm_pin.model.meshes`).
 """
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
@@ -20,6 +25,8 @@ from rcm_pin.catalog.table import CatalogEntry, family_named, get_entry
 from rcm_pin.errors import InvalidInputError, UnknownMechanismError, XacroArgumentError
 from rcm_pin.model.build import build_mechanism, is_path_like
 from rcm_pin.model.mechanism import Mechanism
+from rcm_pin.model.meshes import resolve_meshes
+from rcm_pin.model.packages import PackageSearch, package_search
 from rcm_pin.model.render import render_xacro, validate_args
 from rcm_pin.model.sidecar import Description, description_from_yaml, read_description
 
@@ -29,6 +36,9 @@ def load(
     *,
     tool_frame: str | None = None,
     rcm_frame: str | None = None,
+    # Any, not Mapping[str, str | Path] | None: callers pass **xacro_args of str values
+    package_dirs: Any = None,
+    mesh_dirs: Iterable[str | Path] = (),
     **xacro_args: Any,
 ) -> Mechanism:
     """Load a shipped mechanism by name, or any URDF / xacro file by path.
@@ -38,6 +48,11 @@ def load(
             ``panda``, ...) or a path to a ``.urdf`` / ``.xacro`` file.
         tool_frame: the tool (output) frame; required for a file that names none.
         rcm_frame: the frame of the remote centre A, for a file that names none.
+        package_dirs: a mapping ROS package name -> its folder, searched first for ``$(find pkg)``
+            and ``package://pkg/...`` (then ROS_PACKAGE_PATH, AMENT_PREFIX_PATH, the
+            folders above the file).
+        mesh_dirs: further folders mesh files may come from (beyond the file's own tree
+            and the packages).
         **xacro_args: xacro arguments (validated against the file's declarations).
 
     Returns:
@@ -48,14 +63,35 @@ def load(
         InvalidInputError: a missing or malformed file.
         XacroArgumentError: unknown, malformed or out-of-range xacro argument.
         UnknownFrameError: the tool frame is not known (lists the candidate frames).
+        PackageNotFoundError: a ``$(find pkg)`` package found nowhere (names it and
+            ``package_dirs`` / ``--package-dir``).
+        MeshLocationError: a mesh file outside the allowed folders (names ``mesh_dirs`` /
+            ``--mesh-dir``).
     """
+    where = _Where(dict(package_dirs or {}), tuple(mesh_dirs))
     if isinstance(name_or_path, Path):
-        return _load_path(name_or_path, tool_frame, rcm_frame, xacro_args)
+        return _load_path(name_or_path, tool_frame, rcm_frame, xacro_args, where)
     if not isinstance(name_or_path, str) or not name_or_path.strip():
         get_entry(str(name_or_path))  # raises, listing the valid names
     if is_path_like(name_or_path):
-        return _load_path(Path(name_or_path), tool_frame, rcm_frame, xacro_args)
-    return _load_entry(get_entry(name_or_path), tool_frame, rcm_frame, xacro_args)
+        return _load_path(Path(name_or_path), tool_frame, rcm_frame, xacro_args, where)
+    return _load_entry(get_entry(name_or_path), tool_frame, rcm_frame, xacro_args, where)
+
+
+class _Where:
+    """The package and mesh folders of one load (passed on to ``rebuild``)."""
+
+    def __init__(self, package_dirs: dict[str, str | Path], mesh_dirs: tuple[str | Path, ...]):
+        self.package_dirs, self.mesh_dirs = package_dirs, mesh_dirs
+
+    def search(self, near: Path) -> PackageSearch:
+        return package_search(self.package_dirs, near)
+
+    def meshes(self, urdf: str, source: Path | None, search: PackageSearch) -> str:
+        return resolve_meshes(urdf, source=source, search=search, mesh_dirs=self.mesh_dirs)
+
+    def keywords(self) -> dict[str, Any]:
+        return {"package_dirs": self.package_dirs, "mesh_dirs": self.mesh_dirs}
 
 
 def from_urdf(
@@ -72,6 +108,7 @@ def from_urdf(
         UnknownFrameError: the tool frame is not known (lists the candidate frames).
     """
     desc = read_description(urdf)
+    urdf = resolve_meshes(urdf, source=None, search=PackageSearch())
     return build_mechanism(
         urdf,
         name=name,
@@ -83,7 +120,11 @@ def from_urdf(
 
 
 def _load_entry(
-    entry: CatalogEntry, tool_frame: str | None, rcm_frame: str | None, xacro_args: dict[str, Any]
+    entry: CatalogEntry,
+    tool_frame: str | None,
+    rcm_frame: str | None,
+    xacro_args: dict[str, Any],
+    where: _Where,
 ) -> Mechanism:
     if not entry.xacro:
         if xacro_args:
@@ -91,7 +132,8 @@ def _load_entry(
                 f"{entry.name} is a plain URDF ({entry.urdf_path.name}); it takes no xacro "
                 f"arguments, got {', '.join(sorted(xacro_args))}"
             )
-        urdf = _read(entry.urdf_path)
+        search = where.search(entry.urdf_path)
+        urdf = where.meshes(_read(entry.urdf_path), entry.urdf_path, search)
         desc = Description(tool_frame=entry.tool_frame)
         return build_mechanism(
             urdf,
@@ -108,11 +150,14 @@ def _load_entry(
                 f"({key}={entry.fixed_args[key]}); load {entry.xacro} variants by path instead"
             )
     args = validate_args(entry.xacro_path, {**entry.fixed_args, **xacro_args})
-    urdf = render_xacro(entry.xacro_path, args)
+    search = where.search(entry.xacro_path)
+    urdf = render_xacro(entry.xacro_path, args, search=search)
+    urdf = where.meshes(urdf, entry.xacro_path, search)
 
     def rebuild(**more: Any) -> Mechanism:
+        merged = {**xacro_args, **more}
         return load(
-            entry.name, tool_frame=tool_frame, rcm_frame=rcm_frame, **{**xacro_args, **more}
+            entry.name, tool_frame=tool_frame, rcm_frame=rcm_frame, **where.keywords(), **merged
         )
 
     return build_mechanism(
@@ -139,16 +184,21 @@ def _read(path: Path) -> str:
 
 
 def _load_path(
-    path: Path, tool_frame: str | None, rcm_frame: str | None, xacro_args: dict[str, Any]
+    path: Path,
+    tool_frame: str | None,
+    rcm_frame: str | None,
+    xacro_args: dict[str, Any],
+    where: _Where,
 ) -> Mechanism:
     if path.suffix not in (".urdf", ".xacro"):
         raise UnknownMechanismError(
             f"{str(path)!r} is neither a catalogue name nor a .urdf / .xacro file; valid: "
             "a name from `rcm-pin list` or a path ending in .urdf or .xacro"
         )
+    search = where.search(path)
     if path.suffix == ".xacro":
         _read(path)
-        urdf = render_xacro(path, xacro_args)
+        urdf = render_xacro(path, xacro_args, search=search)
         args = dict(validate_args(path, xacro_args))
     else:
         if xacro_args:
@@ -173,8 +223,11 @@ def _load_path(
             loops=side.loops,
         )
 
+    urdf = where.meshes(urdf, path, search)
+
     def rebuild(**more: Any) -> Mechanism:
-        return load(path, tool_frame=tool_frame, rcm_frame=rcm_frame, **{**xacro_args, **more})
+        merged = {**xacro_args, **more}
+        return load(path, tool_frame=tool_frame, rcm_frame=rcm_frame, **where.keywords(), **merged)
 
     return build_mechanism(
         urdf,
