@@ -35,10 +35,11 @@ from pathlib import Path
 sys.path.insert(0, {tests!r})
 import corpus
 path, name, out = Path(sys.argv[1]), sys.argv[2], sys.argv[3]
+view = ["view", "{{path}}", "--tool-frame", "{{tool}}"]
 checks = {{"fk": corpus.check_fk, "ik": corpus.check_ik, "cli_fk": corpus.check_cli_fk,
           **corpus.COMMANDS,
-          "html": corpus.check_cli(["view", "{{path}}", "--tool-frame", "{{tool}}", "--html", out + ".html"]),
-          "png": corpus.check_cli(["view", "{{path}}", "--tool-frame", "{{tool}}", "--png", out + ".png"])}}
+          "html": corpus.check_cli([*view, "--html", out + ".html"]),
+          "png": corpus.check_cli([*view, "--png", out + ".png"])}}
 o = corpus.run(checks[name], path)
 print(json.dumps([o.status, o.detail]))
 """

@@ -110,7 +110,7 @@ def simulate(
 
     Raises:
         InvalidInputError: duration ≤ 0, bad q0 / v0, no q0 and no way to find one, a
-            plant whose motions carry no inertia (:func:`~rcm_pin.dynamics.inertia.require_inertia`), or
+            plant whose motions carry no inertia (:mod:`rcm_pin.dynamics.inertia`), or
             ``"compiled"`` where it is not available (an unknown backend is refused by
             :class:`SimulationOptions`).
         JointLimitError: the run starts or gets outside the joint limits (module
