@@ -115,11 +115,11 @@ def plain_q(path: Path, full: pin.Model, angles: dict[str, float]) -> np.ndarray
 
 
 def random_configuration(mech: rcm_pin.Mechanism, rng: np.random.Generator) -> np.ndarray:
-    """Uniform inside finite limits; [-π, π] (revolute) or [-1, 1] m where unbounded."""
+    """Uniform inside the limits cut to one turn [-π, π] (revolute) or [-1, 1] m: some
+    files give unbounded joints limits of 1e16 instead of none."""
     span = np.where(mech.revolute, math.pi, 1.0)
-    lo = np.where(np.isfinite(mech.lower), mech.lower, -span)
-    hi = np.where(np.isfinite(mech.upper), mech.upper, span)
-    return rng.uniform(lo, hi)
+    lo, hi = np.maximum(mech.lower, -span), np.minimum(mech.upper, span)
+    return rng.uniform(np.minimum(lo, hi), hi)
 
 
 def load(path: Path) -> rcm_pin.Mechanism:

@@ -419,3 +419,17 @@ def test_duplicate_names_are_named():
     with pytest.raises(InvalidInputError) as err:
         rcm_pin.from_urdf(text, name="twice", tool_frame="tool_link")
     assert str(err.value) == "twice: joint name 'cont' is used twice; valid: unique joint names"
+
+
+def test_a_robot_without_moving_joints_is_refused():
+    urdf = (
+        '<robot name="statue"><link name="base"/><link name="head"/>'
+        '<joint name="neck" type="fixed"><parent link="base"/><child link="head"/></joint>'
+        "</robot>"
+    )
+    with pytest.raises(UnsupportedJointError) as info:
+        rcm_pin.from_urdf(urdf, "statue", tool_frame="head")
+    assert str(info.value) == (
+        "statue: no moving joint (every joint is fixed or a mimic follower); valid: a URDF "
+        "with at least one revolute, continuous or prismatic joint"
+    )

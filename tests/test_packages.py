@@ -128,8 +128,11 @@ def test_mesh_outside_the_description_is_refused(tmp_path, filename):
     secret.parent.mkdir()
     secret.write_text(BASE_OBJ.read_text())
     path = _urdf_with_mesh(tmp_path / "robots" / "mine", filename)
+    mech = rcm_pin.load(path, package_dirs={"arm_parts": WS / "parts"})  # kinematics load
+    from rcm_pin.viz import Viewer
+
     with pytest.raises(MeshLocationError, match=r"--mesh-dir PATH \(mesh_dirs=\[PATH\]"):
-        rcm_pin.load(path, package_dirs={"arm_parts": WS / "parts"})
+        Viewer(mech)  # the mesh is never read
 
 
 def test_mesh_dirs_allow_a_folder(tmp_path):
@@ -144,9 +147,13 @@ def test_mesh_dirs_allow_a_folder(tmp_path):
 def test_urdf_text_may_not_name_local_files():
     """URDF text has no folder of its own: no local mesh is allowed."""
     urdf = '<robot name="r"><link name="a"><visual><geometry><mesh filename="/etc/hostname"/>'
-    urdf += '</geometry></visual></link><rcm_pin tool_frame="a"/></robot>'
+    urdf += '</geometry></visual></link><link name="b"/><joint name="j" type="revolute">'
+    urdf += '<parent link="a"/><child link="b"/><limit lower="-1" upper="1" effort="1" '
+    urdf += 'velocity="1"/></joint><rcm_pin tool_frame="b"/></robot>'
+    from rcm_pin.viz import Viewer
+
     with pytest.raises(MeshLocationError):
-        rcm_pin.from_urdf(urdf)
+        Viewer(rcm_pin.from_urdf(urdf))
 
 
 def test_viewer_draws_without_a_missing_mesh_and_names_it(tmp_path):

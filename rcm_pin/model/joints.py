@@ -152,7 +152,7 @@ def coordinates(model: pin.Model, joints: Sequence[str] = (), closed: bool = Fal
     (the papers'); a closed mechanism's model with continuous joints: Pinocchio's q.
 
     Raises:
-        UnsupportedJointError: a floating or planar joint.
+        UnsupportedJointError: a floating or planar joint, or no moving joint at all.
         UnknownFrameError: a named joint the model does not have.
         InvalidInputError: a named joint twice, or one without a coordinate (fixed, mimic).
     """
@@ -169,6 +169,11 @@ def coordinates(model: pin.Model, joints: Sequence[str] = (), closed: bool = Fal
             )
     else:
         ids = [j for j in range(1, model.njoints) if model.joints[j].nq > 0]
+    if not ids:
+        raise UnsupportedJointError(
+            f"{model.name}: no moving joint (every joint is fixed or a mimic follower); "
+            "valid: a URDF with at least one revolute, continuous or prismatic joint"
+        )
     cont = [k for k, j in enumerate(ids) if is_continuous(model.joints[j])]
     if closed and cont:  # the loop solvers work on Pinocchio's q
         names = [model.names[j] for j in ids for _ in range(model.joints[j].nq)]
@@ -224,8 +229,11 @@ def parse_failure(urdf: str, name: str, exc: Exception) -> str:
     fault (a primary missing from the file, or one Pinocchio meets after its follower in
     its depth-first walk, so the mimic model cannot be built), else Pinocchio's text."""
     root = ET.fromstring(urdf)
-    names = [j.get("name", "") for j in root.iter("joint")]
-    for kind, used in (("joint", names), ("link", [k.get("name", "") for k in root.iter("link")])):
+    names = [j.get("name", "") for j in root.findall("joint")]  # not <transmission>'s
+    for kind, used in (
+        ("joint", names),
+        ("link", [k.get("name", "") for k in root.findall("link")]),
+    ):
         twice = sorted({n for n in used if used.count(n) > 1})
         if twice:
             return f"{name}: {kind} name {twice[0]!r} is used twice; valid: unique {kind} names"
@@ -233,7 +241,7 @@ def parse_failure(urdf: str, name: str, exc: Exception) -> str:
         order = list(pin.buildModelFromXML(urdf).names)
     except (RuntimeError, ValueError):
         order = []
-    for joint in root.iter("joint"):
+    for joint in root.findall("joint"):
         tag, follower = joint.find("mimic"), joint.get("name", "")
         primary = "" if tag is None else tag.get("joint", "")
         if tag is not None and primary not in names:

@@ -14,8 +14,9 @@ of the URDF or xacro file, or the package holding it: the nearest folder above w
 declared package folder (``package_dirs=``, ``--package-dir``), a package the search
 finds (ROS_PACKAGE_PATH, ...) or a declared mesh folder
 (``mesh_dirs=``, ``--mesh-dir``). Anything else (``file:///etc/passwd``,
-``../../secret.obj``) raises :class:`~rcm_pin.errors.MeshLocationError` naming
-``--mesh-dir``: a user's file is data, and exported HTML embeds every mesh it draws.
+``../../secret.obj``) is never read: the kinematics load, and the viewer (whose HTML
+export embeds every mesh it draws) raises :class:`~rcm_pin.errors.MeshLocationError`
+naming ``--mesh-dir``: a user's file is data.
 """
 
 from __future__ import annotations
@@ -36,6 +37,11 @@ _QUOTES = {'"': "&quot;", "'": "&apos;"}
 
 class MissingMeshWarning(UserWarning):
     """A mesh the viewer cannot draw (the message names the file and why)."""
+
+
+#: Prefix :func:`resolve_meshes` gives a mesh outside the allowed folders (not a URI scheme
+#: any reader knows, so no library opens it), followed by the reason.
+REFUSED = "rcm-pin-refused:"
 
 
 def description_root(source: Path) -> Path:
@@ -111,11 +117,9 @@ def resolve_meshes(
         mesh_dirs: further folders meshes may come from [paths].
 
     Returns:
-        The text, mesh filenames rewritten (unresolvable packages and other schemes kept).
-
-    Raises:
-        MeshLocationError: a mesh outside every allowed folder (names the file and
-            ``--mesh-dir`` / ``mesh_dirs=``).
+        The text, mesh filenames rewritten (unresolvable packages and other schemes kept);
+        a mesh outside every allowed folder becomes ``REFUSED`` + the reason, so that
+        kinematics still load and :func:`drawable_urdf` (the viewer) refuses it.
     """
     roots = [Path(d).expanduser().resolve() for d in mesh_dirs]
     roots += [f for _, f in search.declared]
@@ -137,11 +141,8 @@ def resolve_meshes(
         allowed = roots + ([package] if package is not None else [])
         if not _inside(path, allowed) and not _in_found_package(path, find):
             where = f"the folders of {source}" if source is not None else "no folder (URDF text)"
-            raise MeshLocationError(
-                f"mesh {uri!r} ({path}) is outside the description's folders ({where}) and "
-                "every declared package or mesh folder; valid: a mesh inside them, or allow "
-                "its folder with --mesh-dir PATH (mesh_dirs=[PATH] in Python)"
-            )
+            refused = f"{REFUSED}{uri} ({path}) is outside the description's folders ({where})"
+            return f"{match.group(1)}{match.group(2)}{escape(refused, _QUOTES)}{match.group(2)}"
         return f"{match.group(1)}{match.group(2)}{escape(str(path), _QUOTES)}{match.group(2)}"
 
     return _MESH.sub(rewrite, urdf)
@@ -149,13 +150,24 @@ def resolve_meshes(
 
 def drawable_urdf(urdf: str) -> str:
     """The URDF without the visuals whose mesh is not a local file that exists; each one
-    dropped is a :class:`MissingMeshWarning` naming the file and what to do."""
+    dropped is a :class:`MissingMeshWarning` naming the file and what to do.
+
+    Raises:
+        MeshLocationError: a mesh outside every allowed folder (names the file and
+            ``--mesh-dir`` / ``mesh_dirs=``): never read, never embedded in a page.
+    """
 
     def keep(match: re.Match[str]) -> str:
         mesh = _MESH.search(match.group(0))
         if mesh is None:
             return match.group(0)
         name = unescape(mesh.group(3), {"&quot;": '"', "&apos;": "'"})
+        if name.startswith(REFUSED):
+            raise MeshLocationError(
+                f"mesh {name[len(REFUSED) :]} and every declared package or mesh folder; "
+                "valid: a mesh inside them, or allow its folder with --mesh-dir PATH "
+                "(mesh_dirs=[PATH] in Python)"
+            )
         if Path(name).is_absolute() and Path(name).is_file():
             return match.group(0)
         if name.startswith("package://"):
@@ -171,4 +183,4 @@ def drawable_urdf(urdf: str) -> str:
     return _VISUAL.sub(keep, urdf)
 
 
-__all__ = ["MissingMeshWarning", "description_root", "drawable_urdf", "resolve_meshes"]
+__all__ = ["REFUSED", "MissingMeshWarning", "description_root", "drawable_urdf", "resolve_meshes"]
