@@ -40,6 +40,23 @@ class InvalidInputError(RcmPinError, ValueError):
     """An input array of the wrong shape or with NaN / infinite entries."""
 
 
+class UntrustedXacroError(InvalidInputError):
+    """An expression of an untrusted xacro file that is not on the allow-list of
+    :mod:`rcm_pin.model.xacro_safety` (the file is data, not code).
+
+    Attributes:
+        file: the xacro file of the expression.
+        line: its line (None: an expression built while rendering).
+        expression: the expression text.
+    """
+
+    def __init__(
+        self, message: str, *, file: str = "", line: int | None = None, expression: str = ""
+    ) -> None:
+        super().__init__(message)
+        self.file, self.line, self.expression = file, line, expression
+
+
 class NotARotationError(RcmPinError, ValueError):
     """A matrix that is too far from a rotation matrix to be projected onto one."""
 
@@ -117,6 +134,7 @@ __all__ = [
     "UnknownFrameError",
     "UnknownMechanismError",
     "UnreachablePoseError",
+    "UntrustedXacroError",
     "XacroArgumentError",
     "require",
 ]

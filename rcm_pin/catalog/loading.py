@@ -29,15 +29,22 @@ def load(
     *,
     tool_frame: str | None = None,
     rcm_frame: str | None = None,
+    trusted: bool = False,
     **xacro_args: Any,
 ) -> Mechanism:
     """Load a shipped mechanism by name, or any URDF / xacro file by path.
+
+    A xacro file loaded by path is data, not code: its expressions must pass the
+    allow-list of :mod:`rcm_pin.model.xacro_safety` unless ``trusted`` (the catalogue's
+    own xacros are trusted).
 
     Args:
         name_or_path: a name from :func:`rcm_pin.names` (``rcm_bevel``, ``planar_3rrr``,
             ``panda``, ...) or a path to a ``.urdf`` / ``.xacro`` file.
         tool_frame: the tool (output) frame; required for a file that names none.
         rcm_frame: the frame of the remote centre A, for a file that names none.
+        trusted: the caller vouches for the xacro file at ``name_or_path``: xacro evaluates
+            its expressions unchecked (CLI: ``--trusted``).
         **xacro_args: xacro arguments (validated against the file's declarations).
 
     Returns:
@@ -48,13 +55,15 @@ def load(
         InvalidInputError: a missing or malformed file.
         XacroArgumentError: unknown, malformed or out-of-range xacro argument.
         UnknownFrameError: the tool frame is not known (lists the candidate frames).
+        UntrustedXacroError: an untrusted xacro file with an expression off the allow-list
+            (names the file, line and expression).
     """
     if isinstance(name_or_path, Path):
-        return _load_path(name_or_path, tool_frame, rcm_frame, xacro_args)
+        return _load_path(name_or_path, tool_frame, rcm_frame, xacro_args, trusted)
     if not isinstance(name_or_path, str) or not name_or_path.strip():
         get_entry(str(name_or_path))  # raises, listing the valid names
     if is_path_like(name_or_path):
-        return _load_path(Path(name_or_path), tool_frame, rcm_frame, xacro_args)
+        return _load_path(Path(name_or_path), tool_frame, rcm_frame, xacro_args, trusted)
     return _load_entry(get_entry(name_or_path), tool_frame, rcm_frame, xacro_args)
 
 
@@ -108,7 +117,7 @@ def _load_entry(
                 f"({key}={entry.fixed_args[key]}); load {entry.xacro} variants by path instead"
             )
     args = validate_args(entry.xacro_path, {**entry.fixed_args, **xacro_args})
-    urdf = render_xacro(entry.xacro_path, args)
+    urdf = render_xacro(entry.xacro_path, args, trusted=True)  # the catalogue's own file
 
     def rebuild(**more: Any) -> Mechanism:
         return load(
@@ -139,7 +148,11 @@ def _read(path: Path) -> str:
 
 
 def _load_path(
-    path: Path, tool_frame: str | None, rcm_frame: str | None, xacro_args: dict[str, Any]
+    path: Path,
+    tool_frame: str | None,
+    rcm_frame: str | None,
+    xacro_args: dict[str, Any],
+    trusted: bool = False,
 ) -> Mechanism:
     if path.suffix not in (".urdf", ".xacro"):
         raise UnknownMechanismError(
@@ -148,7 +161,7 @@ def _load_path(
         )
     if path.suffix == ".xacro":
         _read(path)
-        urdf = render_xacro(path, xacro_args)
+        urdf = render_xacro(path, xacro_args, trusted=trusted)
         args = dict(validate_args(path, xacro_args))
     else:
         if xacro_args:
@@ -174,7 +187,8 @@ def _load_path(
         )
 
     def rebuild(**more: Any) -> Mechanism:
-        return load(path, tool_frame=tool_frame, rcm_frame=rcm_frame, **{**xacro_args, **more})
+        more = {**xacro_args, **more}
+        return load(path, tool_frame=tool_frame, rcm_frame=rcm_frame, trusted=trusted, **more)
 
     return build_mechanism(
         urdf,

@@ -213,9 +213,11 @@ def exclusive(args: argparse.Namespace, *options: str) -> None:
 
 def load_mechanism(args: argparse.Namespace) -> Mechanism:
     """The mechanism named on the command line, with its ``--arg`` xacro arguments and, for
-    a path, ``--tool-frame`` / ``--rcm-frame``."""
+    a path, ``--tool-frame`` / ``--rcm-frame`` and ``--trusted``."""
     frames = {"tool_frame": args.tool_frame, "rcm_frame": args.rcm_frame}
-    return load(args.name, **{k: v for k, v in frames.items() if v}, **parse_xacro_args(args.arg))
+    given = {k: v for k, v in frames.items() if v}
+    trusted = bool(getattr(args, "trusted", False))
+    return load(args.name, **given, trusted=trusted, **parse_xacro_args(args.arg))
 
 
 def add_common(parser: argparse.ArgumentParser, mechanism: bool = True) -> None:
@@ -232,6 +234,12 @@ def add_common(parser: argparse.ArgumentParser, mechanism: bool = True) -> None:
         )
         parser.add_argument(
             "--rcm-frame", metavar="FRAME", help="a path's remote-centre frame (optional)"
+        )
+        parser.add_argument(
+            "--trusted",
+            action="store_true",
+            help="a .xacro path you vouch for: evaluate its expressions unchecked (default: "
+            "only the allow-list of SECURITY.md; a xacro file is code)",
         )
     parser.add_argument("--json", action="store_true", help="print one JSON document")
 

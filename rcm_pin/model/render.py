@@ -17,8 +17,10 @@ import re
 from collections.abc import Mapping
 from pathlib import Path
 
-from rcm_pin.errors import XacroArgumentError
+from rcm_pin.errors import UntrustedXacroError, XacroArgumentError
+from rcm_pin.model.xacro_guard import process_file
 from rcm_pin.model.xacro_ranges import check_pairs, check_value, declared_specs
+from rcm_pin.model.xacro_safety import check_file
 
 _memory: dict[str, str] = {}
 
@@ -85,22 +87,29 @@ def _strip_banner(urdf: str) -> str:
     return "\n".join(lines) + "\n"
 
 
-def render_xacro(path: str | Path, args: Mapping[str, object] | None = None) -> str:
+def render_xacro(
+    path: str | Path, args: Mapping[str, object] | None = None, *, trusted: bool = False
+) -> str:
     """Render a xacro file to URDF text, validating arguments, with caching.
 
     Args:
         path: the ``.xacro`` file.
         args: xacro arguments (``name -> value``); unknown names are an error.
+        trusted: the caller vouches for the file; False (default): its expressions must
+            pass the allow-list of :mod:`rcm_pin.model.xacro_safety` (data, not code).
 
     Returns:
         The URDF XML text.
 
     Raises:
         XacroArgumentError: bad argument, or xacro failed on the given values.
+        UntrustedXacroError: an untrusted file with an expression off the allow-list.
     """
     p = Path(path)
     if not p.exists():
         raise XacroArgumentError(f"xacro file {p} does not exist")
+    if not trusted:
+        check_file(p)  # before the cache too: a file is refused the same way every time
     text_args = validate_args(p, args or {})
     key = cache_key(p, text_args)
     if key in _memory:
@@ -109,10 +118,10 @@ def render_xacro(path: str | Path, args: Mapping[str, object] | None = None) -> 
     if disk.exists():
         _memory[key] = disk.read_text()
         return _memory[key]
-    import xacro  # local import: xacro is slow to import and not needed for cached reads
-
-    try:
-        document = xacro.process_file(str(p), mappings=text_args)  # type: ignore[attr-defined]
+    try:  # xacro is imported there: slow to import and not needed for cached reads
+        document = process_file(p, text_args, trusted=trusted)
+    except UntrustedXacroError:
+        raise
     except Exception as exc:  # xacro raises its own XacroException and NameError
         given = ", ".join(sorted(text_args)) or "none"
         first = str(exc).splitlines()[0] if str(exc) else type(exc).__name__
