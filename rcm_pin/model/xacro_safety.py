@@ -37,7 +37,7 @@ from rcm_pin.errors import UntrustedXacroError
 FUNCTIONS = frozenset({
     "sin", "cos", "tan", "asin", "acos", "atan", "atan2", "sinh", "cosh", "tanh", "sqrt", "exp",
     "log", "log10", "hypot", "pow", "fabs", "floor", "ceil", "trunc", "fmod", "copysign",
-    "radians", "degrees", "abs", "min", "max", "round", "int", "float", "str", "bool", "len",
+    "radians", "degrees", "min", "max", "round", "int", "float", "str", "bool", "len",
 })  # fmt: skip
 #: Constants an untrusted expression may name (besides properties).
 CONSTANTS = frozenset({"pi", "e", "tau", "inf", "nan", "True", "False", "None"})
@@ -88,7 +88,7 @@ def _refusal(node: ast.AST) -> str | None:
         if node.id.startswith("__"):
             return f"the name {node.id} is not allowed"
         if node.id in REFUSED_NAMES:
-            return f"the name {node.id} is not allowed (only the listed functions)"
+            return f"the name {node.id} is not allowed"
     if isinstance(node, ast.Constant) and isinstance(node.value, bytes):
         return "bytes are not allowed"
     if isinstance(node, ast.Subscript):
