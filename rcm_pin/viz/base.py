@@ -29,7 +29,7 @@ with warnings.catch_warnings():  # meshcat imports pyzmq's deprecated zmq.eventl
 from rcm_pin.errors import InvalidInputError
 from rcm_pin.viz.camera import FOV_DEG, meshcat_position
 from rcm_pin.viz.scene import SceneRecorder
-from rcm_pin.viz.server import LOCAL_HOST, start_server
+from rcm_pin.viz.server import LOCAL_HOST, start_server, stop_server
 
 _Scene = TypeVar("_Scene", bound="MeshcatScene")
 
@@ -188,9 +188,8 @@ class MeshcatScene:
         """Stop the server process this viewer started (no-op for in-memory scenes)."""
         window = self.vis.window
         proc = getattr(window, "server_proc", None)
-        if proc is not None and proc.poll() is None:
-            proc.kill()
-            proc.wait()
+        if proc is not None:
+            stop_server(proc)
         socket = getattr(window, "zmq_socket", None)
         if socket is not None:
             socket.close(linger=0)
