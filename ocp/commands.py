@@ -31,6 +31,7 @@ def ik_command(
     solver: str = "auto",
     restarts: int = 10,
     xacro_args: dict[str, str] | None = None,
+    trusted: bool = False,
 ) -> dict[str, Any]:
     """Numerical IK of any catalogue mechanism (or URDF path).
 
@@ -44,7 +45,7 @@ def ik_command(
         InvalidInputError: the wrong target kind for the mechanism, or malformed values.
         UnreachablePoseError, SolverError: see :class:`ocp.ik.IKProblem`.
     """
-    mech = rcm_pin.load(name, **(xacro_args or {}))
+    mech = rcm_pin.load(name, trusted=trusted, **(xacro_args or {}))
     prob, target = _problem(mech, xyz, rpy, pose, restarts)
     start = None if q0 is None else mech.to_pin(mech.check_q(np.asarray(q0), "q0"))
     res = prob.solve(target, start, solver=solver, raise_on_failure=False)  # type: ignore[arg-type]

@@ -54,6 +54,23 @@ class MeshLocationError(RcmPinError, ValueError):
     names ``--mesh-dir`` / ``mesh_dirs=``, which allow it."""
 
 
+class UntrustedXacroError(InvalidInputError):
+    """An expression of an untrusted xacro file that is not on the allow-list of
+    :mod:`rcm_pin.model.xacro_safety` (the file is data, not code).
+
+    Attributes:
+        file: the xacro file of the expression.
+        line: its line (None: an expression built while rendering).
+        expression: the expression text.
+    """
+
+    def __init__(
+        self, message: str, *, file: str = "", line: int | None = None, expression: str = ""
+    ) -> None:
+        super().__init__(message)
+        self.file, self.line, self.expression = file, line, expression
+
+
 class NotARotationError(RcmPinError, ValueError):
     """A matrix that is too far from a rotation matrix to be projected onto one."""
 
@@ -134,6 +151,7 @@ __all__ = [
     "UnknownMechanismError",
     "UnreachablePoseError",
     "UnsupportedJointError",
+    "UntrustedXacroError",
     "XacroArgumentError",
     "require",
 ]

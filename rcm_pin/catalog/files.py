@@ -30,7 +30,7 @@ def render_default(name: str, args: dict[str, str] | None = None) -> str:
         if args:
             raise XacroArgumentError(f"{name} is a plain URDF; it takes no xacro arguments")
         return entry.urdf_path.read_text()
-    return render_xacro(entry.xacro_path, {**entry.fixed_args, **(args or {})})
+    return render_xacro(entry.xacro_path, {**entry.fixed_args, **(args or {})}, trusted=True)
 
 
 def _rendered(entry: CatalogEntry) -> list[tuple[Path, str]]:

@@ -39,9 +39,14 @@ def load(
     # Any, not Mapping[str, str | Path] | None: callers pass **xacro_args of str values
     package_dirs: Any = None,
     mesh_dirs: Iterable[str | Path] = (),
+    trusted: bool = False,
     **xacro_args: Any,
 ) -> Mechanism:
     """Load a shipped mechanism by name, or any URDF / xacro file by path.
+
+    A xacro file loaded by path is data, not code: its expressions must pass the
+    allow-list of :mod:`rcm_pin.model.xacro_safety` unless ``trusted`` (the catalogue's
+    own xacros are trusted).
 
     Args:
         name_or_path: a name from :func:`rcm_pin.names` (``rcm_bevel``, ``planar_3rrr``,
@@ -53,6 +58,8 @@ def load(
             folders above the file).
         mesh_dirs: further folders mesh files may come from (beyond the file's own tree
             and the packages).
+        trusted: the caller vouches for the xacro file at ``name_or_path``: xacro evaluates
+            its expressions unchecked (CLI: ``--trusted``).
         **xacro_args: xacro arguments (validated against the file's declarations).
 
     Returns:
@@ -65,10 +72,10 @@ def load(
         UnknownFrameError: the tool frame is not known (lists the candidate frames).
         PackageNotFoundError: a ``$(find pkg)`` package found nowhere (names it and
             ``package_dirs`` / ``--package-dir``).
-        MeshLocationError: a mesh file outside the allowed folders (names ``mesh_dirs`` /
-            ``--mesh-dir``).
+        UntrustedXacroError: an untrusted xacro file with an expression off the allow-list
+            (names the file, line and expression).
     """
-    where = _Where(dict(package_dirs or {}), tuple(mesh_dirs))
+    where = _Where(dict(package_dirs or {}), tuple(mesh_dirs), bool(trusted))
     if isinstance(name_or_path, Path):
         return _load_path(name_or_path, tool_frame, rcm_frame, xacro_args, where)
     if not isinstance(name_or_path, str) or not name_or_path.strip():
@@ -79,10 +86,15 @@ def load(
 
 
 class _Where:
-    """The package and mesh folders of one load (passed on to ``rebuild``)."""
+    """The package and mesh folders and the trust of one load (passed on to ``rebuild``)."""
 
-    def __init__(self, package_dirs: dict[str, str | Path], mesh_dirs: tuple[str | Path, ...]):
-        self.package_dirs, self.mesh_dirs = package_dirs, mesh_dirs
+    def __init__(
+        self,
+        package_dirs: dict[str, str | Path],
+        mesh_dirs: tuple[str | Path, ...],
+        trusted: bool = False,
+    ):
+        self.package_dirs, self.mesh_dirs, self.trusted = package_dirs, mesh_dirs, trusted
 
     def search(self, near: Path) -> PackageSearch:
         return package_search(self.package_dirs, near)
@@ -91,7 +103,11 @@ class _Where:
         return resolve_meshes(urdf, source=source, search=search, mesh_dirs=self.mesh_dirs)
 
     def keywords(self) -> dict[str, Any]:
-        return {"package_dirs": self.package_dirs, "mesh_dirs": self.mesh_dirs}
+        return {
+            "package_dirs": self.package_dirs,
+            "mesh_dirs": self.mesh_dirs,
+            "trusted": self.trusted,
+        }
 
 
 def from_urdf(
@@ -151,7 +167,7 @@ def _load_entry(
             )
     args = validate_args(entry.xacro_path, {**entry.fixed_args, **xacro_args})
     search = where.search(entry.xacro_path)
-    urdf = render_xacro(entry.xacro_path, args, search=search)
+    urdf = render_xacro(entry.xacro_path, args, search=search, trusted=True)  # our own file
     urdf = where.meshes(urdf, entry.xacro_path, search)
 
     def rebuild(**more: Any) -> Mechanism:
@@ -198,7 +214,7 @@ def _load_path(
     search = where.search(path)
     if path.suffix == ".xacro":
         _read(path)
-        urdf = render_xacro(path, xacro_args, search=search)
+        urdf = render_xacro(path, xacro_args, search=search, trusted=where.trusted)
         args = dict(validate_args(path, xacro_args))
     else:
         if xacro_args:

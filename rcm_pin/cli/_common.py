@@ -215,11 +215,12 @@ def exclusive(args: argparse.Namespace, *options: str) -> None:
 def load_mechanism(args: argparse.Namespace) -> Mechanism:
     """The mechanism named on the command line, with its ``--arg`` xacro arguments,
     ``--package-dir`` / ``--mesh-dir`` folders and, for a path, ``--tool-frame`` /
-    ``--rcm-frame``."""
+    ``--rcm-frame`` and ``--trusted``."""
     frames = {"tool_frame": args.tool_frame, "rcm_frame": args.rcm_frame}
     folders = folders_from_args(args)
     kwargs = {k: v for k, v in frames.items() if v}
-    return load(args.name, **kwargs, **folders, **parse_xacro_args(args.arg))
+    trusted = bool(getattr(args, "trusted", False))
+    return load(args.name, **kwargs, **folders, trusted=trusted, **parse_xacro_args(args.arg))
 
 
 def add_common(parser: argparse.ArgumentParser, mechanism: bool = True) -> None:
@@ -238,6 +239,12 @@ def add_common(parser: argparse.ArgumentParser, mechanism: bool = True) -> None:
             "--rcm-frame", metavar="FRAME", help="a path's remote-centre frame (optional)"
         )
         add_folder_options(parser)
+        parser.add_argument(
+            "--trusted",
+            action="store_true",
+            help="a .xacro path you vouch for: evaluate its expressions unchecked (default: "
+            "only the allow-list of SECURITY.md; a xacro file is code)",
+        )
     parser.add_argument("--json", action="store_true", help="print one JSON document")
 
 

@@ -77,6 +77,7 @@ def cmd_ik(args: argparse.Namespace) -> int:
         q0=None if args.q0 is None else parse_vector(args.q0, "q0"),
         solver=args.solver,
         xacro_args=parse_xacro_args(args.arg),
+        trusted=args.trusted,
     )
     emit(args, payload, format_ik(payload))
     return 0

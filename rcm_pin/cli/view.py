@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import contextlib
+import signal
 import sys
 import time
 import warnings
@@ -59,6 +60,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--dt", type=float, default=0.05, help="time between --traj rows [s]")
     p.add_argument("--html", type=Path, help="write a self-contained static HTML page")
     p.add_argument("--png", type=Path, help="write a PNG (headless Chromium, else matplotlib)")
+    p.add_argument(
+        "--host",
+        default="127.0.0.1",
+        help="live mode: the address the viewer listens on (default 127.0.0.1, this machine "
+        "only; e.g. 0.0.0.0 opens it to the network)",
+    )
     p.add_argument(
         "--seconds",
         type=float,
@@ -126,7 +133,10 @@ def _view(args: argparse.Namespace, kept: list[str]) -> int:
     inputs = parse_vector(args.q, "q", n_inputs) if args.q is not None else None
     traj = _load_traj(args.traj, n_inputs) if args.traj is not None else None
     live = args.html is None and args.png is None
-    with Viewer(mech, server=live, snapshot_style=not live) as viewer:
+    with (
+        _stopped_by_sigterm(),
+        Viewer(mech, server=live, snapshot_style=not live, host=args.host) as viewer,
+    ):
         if inputs is not None or args.assembly != 0:
             viewer.display_inputs(viewer.inputs if inputs is None else inputs, args.assembly)
         viewer.fit_camera()
@@ -158,6 +168,25 @@ def _view(args: argparse.Namespace, kept: list[str]) -> int:
     lines += [f"wrote {payload[k]}" for k in ("html", "png") if payload[k]]
     emit(args, payload, "\n".join(lines))
     return 0
+
+
+@contextlib.contextmanager
+def _stopped_by_sigterm() -> Iterator[None]:
+    """SIGTERM ends the command through SystemExit (status 143), so that the viewer's
+    server is stopped on the way out (SIGINT already does, through KeyboardInterrupt)."""
+
+    def stop(signum: int, frame: object) -> None:
+        raise SystemExit(128 + signum)
+
+    try:
+        previous = signal.signal(signal.SIGTERM, stop)
+    except ValueError:  # not the main thread: leave the handler alone
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
 
 
 def _serve(seconds: float | None) -> None:

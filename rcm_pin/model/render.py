@@ -14,11 +14,13 @@ import threading
 from collections.abc import Mapping
 from pathlib import Path
 
-from rcm_pin.errors import PackageNotFoundError, XacroArgumentError
+from rcm_pin.errors import PackageNotFoundError, UntrustedXacroError, XacroArgumentError
 from rcm_pin.model import render_cache
 from rcm_pin.model.packages import PackageSearch, find_hook
 from rcm_pin.model.render_cache import cache_key, file_digest
+from rcm_pin.model.xacro_guard import process_file
 from rcm_pin.model.xacro_ranges import check_pairs, check_value, declared_specs
+from rcm_pin.model.xacro_safety import check_file
 
 #: xacro keeps its state in module globals: one render at a time.
 _XACRO_LOCK = threading.Lock()
@@ -73,6 +75,7 @@ def render_xacro(
     args: Mapping[str, object] | None = None,
     *,
     search: PackageSearch | None = None,
+    trusted: bool = False,
 ) -> str:
     """Render a xacro file to URDF text, validating arguments, with caching.
 
@@ -81,6 +84,8 @@ def render_xacro(
         args: xacro arguments (``name -> value``); unknown names are an error.
         search: where ``$(find pkg)`` looks (default: the environment and the folders
             above ``path``, :mod:`rcm_pin.model.packages`).
+        trusted: the caller vouches for the file; False (default): its expressions must
+            pass the allow-list of :mod:`rcm_pin.model.xacro_safety` (data, not code).
 
     Returns:
         The URDF XML text.
@@ -88,17 +93,20 @@ def render_xacro(
     Raises:
         XacroArgumentError: bad argument, or xacro failed on the given values.
         PackageNotFoundError: a ``$(find pkg)`` package found nowhere.
+        UntrustedXacroError: an untrusted file with an expression off the allow-list.
     """
     p = Path(path)
     if not p.exists():
         raise XacroArgumentError(f"xacro file {p} does not exist")
+    if not trusted:
+        check_file(p)  # before the cache too: a file is refused the same way every time
     text_args = validate_args(p, args or {})
     search = search or PackageSearch(near=p)
     key = cache_key(p, text_args, search)
     cached = render_cache.lookup(key, search)
     if cached is not None:
         return cached
-    urdf, entry = _run_xacro(p, text_args, search)
+    urdf, entry = _run_xacro(p, text_args, search, trusted)
     render_cache.store(key, entry)
     return urdf
 
@@ -112,7 +120,7 @@ def _package_error(exc: BaseException) -> PackageNotFoundError | None:
 
 
 def _run_xacro(
-    p: Path, text_args: dict[str, str], search: PackageSearch
+    p: Path, text_args: dict[str, str], search: PackageSearch, trusted: bool
 ) -> tuple[str, render_cache.Rendering]:
     """xacro on ``p``: the URDF text and what it read."""
     import xacro  # local import: xacro is slow to import and not needed for cached reads
@@ -120,7 +128,9 @@ def _run_xacro(
     with _XACRO_LOCK, find_hook(search) as reads:
         xacro.all_includes.clear()  # type: ignore[attr-defined]
         try:
-            document = xacro.process_file(str(p), mappings=text_args)  # type: ignore[attr-defined]
+            document = process_file(p, text_args, trusted=trusted)
+        except UntrustedXacroError:
+            raise
         except Exception as exc:  # xacro raises its own XacroException and NameError
             missing = _package_error(exc)
             if missing is not None:
