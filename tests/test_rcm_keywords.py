@@ -142,3 +142,27 @@ def test_every_loading_command_takes_the_rcm_options(capsys):
         "type": "UnknownFrameError",
         "message": f"unknown RCM axis frame 'nope' in rcm_wrist_arm; valid: {FRAMES}",
     }
+
+
+def test_the_shaft_axis_of_an_arm_is_checked_before_the_trocar_choice(capsys):
+    rc, doc = _track(capsys, "panda", "--path", "circle", "--tool-axis", "x")
+    assert rc == 2 and doc["error"] == {
+        "type": "InvalidInputError",
+        "message": "the trocar is chosen for the tool frame's z axis only; valid: give the "
+        "trocar with another frame or axis",
+    }
+    rc, doc = _track(capsys, str(FIXTURE), "--tool-frame", "tool", "--rcm-frame", "rcm",
+                     "--path", "arc", "--tool-axis", "x")  # fmt: skip
+    assert rc == 2 and doc["error"]["message"] == (
+        "rcm_wrist_arm has a mechanical RCM: its shaft is fixed by the mechanism; valid: omit "
+        "the tool frame and axis (load with rcm_axis_frame= / rcm_axis=)"
+    )
+
+
+def test_the_fixture_has_a_positive_definite_mass_matrix():
+    """Every moving link has an inertia: the mass matrix of the coordinates is regular."""
+    from rcm_pin.dynamics.tree import mass_matrix
+
+    arm = rcm_pin.load(FIXTURE, tool_frame="tool")
+    for q in _random_q(arm, 5, 3):
+        assert np.linalg.eigvalsh(mass_matrix(arm, q)).min() > 0.0

@@ -155,9 +155,10 @@ def make_setup(
             )
         return _mechanical(mech, trocar)
     if trocar is None:
-        if frame is not None:
-            make_tool(mech.model, frame, axis)  # UnknownFrameError for a missing frame
-            if (frame, axis) != (str(mech.model.frames[mech.tool_frame_id].name), "z"):
+        tool = str(mech.model.frames[mech.tool_frame_id].name)
+        if frame is not None or axis != "z":
+            make_tool(mech.model, frame or tool, axis)  # UnknownFrameError for a missing frame
+            if (frame or tool, axis) != (tool, "z"):
                 raise InvalidInputError(
                     "the trocar is chosen for the tool frame's z axis only; valid: give "
                     "the trocar with another frame or axis"
