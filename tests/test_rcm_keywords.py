@@ -128,6 +128,10 @@ def test_every_loading_command_takes_the_rcm_options(capsys):
     argv = ["fk", str(FIXTURE), "--tool-frame", "tool", "--rcm-frame", "rcm", "--json"]
     assert main([*argv, "--rcm-axis-frame", "shaft", "--rcm-axis", "z", "--q", "0,0,0,0,0"]) == 0
     assert json.loads(capsys.readouterr().out)["mechanism"] == "rcm_wrist_arm"
+    ocp = ["ocp", "ik", str(FIXTURE), "--tool-frame", "tool", "--xyz", "0.5,0,0.2", "--json"]
+    assert main(ocp) == 0  # the CasADi IK loads the path with its frame options too
+    doc = json.loads(capsys.readouterr().out)
+    assert doc["mechanism"] == "rcm_wrist_arm" and doc["position_error"] <= SOLVED
     assert main([*argv, "--rcm-axis", "w", "--q", "0,0,0,0,0"]) == 2
     assert json.loads(capsys.readouterr().out)["error"] == {
         "type": "InvalidInputError",
