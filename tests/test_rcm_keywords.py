@@ -45,6 +45,9 @@ def test_the_shaft_frame_keeps_the_rcm_at_round_off():
     same = rcm_pin.load(str(FIXTURE), tool_frame="tool", rcm_frame="rcm", rcm_axis_frame="shaft",
                         rcm_axis="z")  # fmt: skip
     assert same.rcm == arm.rcm
+    bevel = rcm_pin.load("rcm_bevel", rcm_axis_frame="tool", rcm_axis="x")  # over <rcm_pin>
+    assert bevel.model.frames[bevel.rcm.axis_frame_id].name == "tool" and bevel.rcm.axis == 0
+    assert rcm_pin.load("rcm_bevel").rcm.axis_frame_id != bevel.rcm.axis_frame_id
 
 
 def test_without_the_shaft_frame_the_wrist_shows_as_an_rcm_error():
