@@ -14,6 +14,7 @@ import shutil
 from pathlib import Path
 
 import numpy as np
+import pinocchio as pin
 import pytest
 
 import rcm_pin
@@ -42,6 +43,14 @@ def test_the_shaft_frame_keeps_the_rcm_at_round_off():
     assert arm.model.frames[arm.rcm.axis_frame_id].name == "shaft" and arm.rcm.axis == 2
     errors = [rcm_pin.rcm_error(arm, q) for q in _random_q(arm, 200, 0)]
     assert max(errors) <= ROUND_OFF
+    # a second route: the no-mimic model, every joint set from the URDF's <mimic> tags
+    full, data = arm.model_full, arm.model_full.createData()
+    shaft, rcm = full.getFrameId("shaft"), full.getFrameId("rcm")
+    for q in _random_q(arm, 50, 1):
+        pin.framesForwardKinematics(full, data, arm.coupling.q_full(arm.to_pin(q)))
+        d = data.oMf[rcm].translation - data.oMf[shaft].translation
+        e = data.oMf[shaft].rotation[:, 2]
+        assert np.linalg.norm(d - (d @ e) * e) <= ROUND_OFF
     same = rcm_pin.load(str(FIXTURE), tool_frame="tool", rcm_frame="rcm", rcm_axis_frame="shaft",
                         rcm_axis="z")  # fmt: skip
     assert same.rcm == arm.rcm
