@@ -40,6 +40,20 @@ class InvalidInputError(RcmPinError, ValueError):
     """An input array of the wrong shape or with NaN / infinite entries."""
 
 
+class UnsupportedJointError(InvalidInputError):
+    """A URDF joint a Mechanism has no coordinates for (``floating``, ``planar``)."""
+
+
+class PackageNotFoundError(RcmPinError, LookupError):
+    """A ROS package (``$(find pkg)``, ``package://pkg/...``) found in no searched folder;
+    the message names it and ``--package-dir`` / ``package_dirs=``."""
+
+
+class MeshLocationError(RcmPinError, ValueError):
+    """A mesh file outside the description's folders and the declared ones; the message
+    names ``--mesh-dir`` / ``mesh_dirs=``, which allow it."""
+
+
 class NotARotationError(RcmPinError, ValueError):
     """A matrix that is too far from a rotation matrix to be projected onto one."""
 
@@ -114,8 +128,10 @@ __all__ = [
     "EXTRAS",
     "InvalidInputError",
     "JointLimitError",
+    "MeshLocationError",
     "MissingExtraError",
     "NotARotationError",
+    "PackageNotFoundError",
     "RcmPinError",
     "SingularConfigurationError",
     "SnapshotError",
@@ -124,6 +140,7 @@ __all__ = [
     "UnknownFrameError",
     "UnknownMechanismError",
     "UnreachablePoseError",
+    "UnsupportedJointError",
     "XacroArgumentError",
     "require",
 ]

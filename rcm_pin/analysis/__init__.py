@@ -102,6 +102,9 @@ if TYPE_CHECKING:
         NumericSingularity,
         SingularityModel,
     )
+    from rcm_pin.analysis.singularity_model import (
+        singularity_model as singularity_model_of,
+    )
     from rcm_pin.analysis.velocity import (
         ToolMotion,
         inverse_acceleration,
@@ -184,6 +187,7 @@ _LAZY = {
     "singularity_grid": "singularity:grid",
     "singularity_map": "maps",
     "singularity_measure": "singularity:measure",
+    "singularity_model_of": "singularity_model:singularity_model",
     "tool_jacobian": "jacobians",
     "tool_pose": "kinematics",
     "tool_poses": "kinematics",
@@ -194,7 +198,8 @@ _LAZY = {
 }
 
 # No re-export is named like a submodule (it would hide the module): ``mobility`` is
-# ``rcm_pin.mobility``; the singularity resolver is imported from its module.
+# ``rcm_pin.mobility``; the singularity resolver ``singularity_model`` is public as
+# ``singularity_model_of`` (the family's SingularityModel of a mechanism).
 __getattr__, __dir__ = lazy_exports(__name__, _LAZY)
 
 __all__ = [
@@ -255,6 +260,7 @@ __all__ = [
     "singularity_grid",
     "singularity_map",
     "singularity_measure",
+    "singularity_model_of",
     "tool_jacobian",
     "tool_pose",
     "tool_poses",

@@ -12,10 +12,15 @@ candidate frames listed, never a guess. The remote centre likewise: ``rcm_frame`
 frame at the point A), ``rcm_axis_frame`` and ``rcm_axis`` (the shaft line: that axis of
 that frame, default the tool frame's z; set it to the shaft for an instrument with a
 wrist), else the ``<rcm_pin>`` element's attributes of the same names.
+
+ROS packages (``$(find pkg)``, ``package://pkg/...``) are found as
+:mod:`rcm_pin.model.packages` says, first in ``package_dirs``; mesh files must lie where
+the description lives or in ``mesh_dirs`` (:mod:`rcm_pin.model.meshes`).
 """
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
@@ -23,6 +28,8 @@ from rcm_pin.catalog.table import CatalogEntry, family_named, get_entry
 from rcm_pin.errors import InvalidInputError, UnknownMechanismError, XacroArgumentError
 from rcm_pin.model.build import build_mechanism, is_path_like
 from rcm_pin.model.mechanism import Mechanism
+from rcm_pin.model.meshes import resolve_meshes
+from rcm_pin.model.packages import PackageSearch, package_search
 from rcm_pin.model.render import render_xacro, validate_args
 from rcm_pin.model.sidecar import Description, description_from_yaml, read_description
 
@@ -34,6 +41,9 @@ def load(
     rcm_frame: str | None = None,
     rcm_axis_frame: str | None = None,
     rcm_axis: str | None = None,
+    # Any, not Mapping[str, str | Path] | None: callers pass **xacro_args of str values
+    package_dirs: Any = None,
+    mesh_dirs: Iterable[str | Path] = (),
     **xacro_args: Any,
 ) -> Mechanism:
     """Load a shipped mechanism by name, or any URDF / xacro file by path.
@@ -46,6 +56,11 @@ def load(
         rcm_axis_frame: the frame whose ``rcm_axis`` is the shaft line through A (default:
             the file's, else the tool frame).
         rcm_axis: ``x``, ``y`` or ``z`` (default: the file's, else ``z``).
+        package_dirs: a mapping ROS package name -> its folder, searched first for ``$(find pkg)``
+            and ``package://pkg/...`` (then ROS_PACKAGE_PATH, AMENT_PREFIX_PATH, the
+            folders above the file).
+        mesh_dirs: further folders mesh files may come from (beyond the file's own tree
+            and the packages).
         **xacro_args: xacro arguments (validated against the file's declarations).
 
     Returns:
@@ -59,15 +74,36 @@ def load(
             candidate frames).
         InvalidInputError: ``rcm_axis`` other than x, y, z, or an RCM axis without an RCM
             point.
+        PackageNotFoundError: a ``$(find pkg)`` package found nowhere (names it and
+            ``package_dirs`` / ``--package-dir``).
+        MeshLocationError: a mesh file outside the allowed folders (names ``mesh_dirs`` /
+            ``--mesh-dir``).
     """
+    where = _Where(dict(package_dirs or {}), tuple(mesh_dirs))
     axis = {k: v for k, v in (("rcm_axis_frame", rcm_axis_frame), ("rcm_axis", rcm_axis)) if v}
     if isinstance(name_or_path, Path):
-        return _load_path(name_or_path, tool_frame, rcm_frame, xacro_args, axis)
+        return _load_path(name_or_path, tool_frame, rcm_frame, xacro_args, where, axis)
     if not isinstance(name_or_path, str) or not name_or_path.strip():
         get_entry(str(name_or_path))  # raises, listing the valid names
     if is_path_like(name_or_path):
-        return _load_path(Path(name_or_path), tool_frame, rcm_frame, xacro_args, axis)
-    return _load_entry(get_entry(name_or_path), tool_frame, rcm_frame, xacro_args, axis)
+        return _load_path(Path(name_or_path), tool_frame, rcm_frame, xacro_args, where, axis)
+    return _load_entry(get_entry(name_or_path), tool_frame, rcm_frame, xacro_args, where, axis)
+
+
+class _Where:
+    """The package and mesh folders of one load (passed on to ``rebuild``)."""
+
+    def __init__(self, package_dirs: dict[str, str | Path], mesh_dirs: tuple[str | Path, ...]):
+        self.package_dirs, self.mesh_dirs = package_dirs, mesh_dirs
+
+    def search(self, near: Path) -> PackageSearch:
+        return package_search(self.package_dirs, near)
+
+    def meshes(self, urdf: str, source: Path | None, search: PackageSearch) -> str:
+        return resolve_meshes(urdf, source=source, search=search, mesh_dirs=self.mesh_dirs)
+
+    def keywords(self) -> dict[str, Any]:
+        return {"package_dirs": self.package_dirs, "mesh_dirs": self.mesh_dirs}
 
 
 def from_urdf(
@@ -87,6 +123,7 @@ def from_urdf(
         UnknownFrameError: the tool frame is not known (lists the candidate frames).
     """
     desc = read_description(urdf)
+    urdf = resolve_meshes(urdf, source=None, search=PackageSearch())
     return build_mechanism(
         urdf,
         name=name,
@@ -104,6 +141,7 @@ def _load_entry(
     tool_frame: str | None,
     rcm_frame: str | None,
     xacro_args: dict[str, Any],
+    where: _Where,
     axis: dict[str, Any] | None = None,
 ) -> Mechanism:
     axis = axis or {}
@@ -113,7 +151,8 @@ def _load_entry(
                 f"{entry.name} is a plain URDF ({entry.urdf_path.name}); it takes no xacro "
                 f"arguments, got {', '.join(sorted(xacro_args))}"
             )
-        urdf = _read(entry.urdf_path)
+        search = where.search(entry.urdf_path)
+        urdf = where.meshes(_read(entry.urdf_path), entry.urdf_path, search)
         desc = Description(tool_frame=entry.tool_frame)
         return build_mechanism(
             urdf,
@@ -131,15 +170,19 @@ def _load_entry(
                 f"({key}={entry.fixed_args[key]}); load {entry.xacro} variants by path instead"
             )
     args = validate_args(entry.xacro_path, {**entry.fixed_args, **xacro_args})
-    urdf = render_xacro(entry.xacro_path, args)
+    search = where.search(entry.xacro_path)
+    urdf = render_xacro(entry.xacro_path, args, search=search)
+    urdf = where.meshes(urdf, entry.xacro_path, search)
 
     def rebuild(**more: Any) -> Mechanism:
+        merged = {**xacro_args, **more}
         return load(
             entry.name,
             tool_frame=tool_frame,
             rcm_frame=rcm_frame,
             **axis,
-            **{**xacro_args, **more},
+            **where.keywords(),
+            **merged,
         )
 
     return build_mechanism(
@@ -171,6 +214,7 @@ def _load_path(
     tool_frame: str | None,
     rcm_frame: str | None,
     xacro_args: dict[str, Any],
+    where: _Where,
     axis: dict[str, Any] | None = None,
 ) -> Mechanism:
     axis = axis or {}
@@ -179,9 +223,10 @@ def _load_path(
             f"{str(path)!r} is neither a catalogue name nor a .urdf / .xacro file; valid: "
             "a name from `rcm-pin list` or a path ending in .urdf or .xacro"
         )
+    search = where.search(path)
     if path.suffix == ".xacro":
         _read(path)
-        urdf = render_xacro(path, xacro_args)
+        urdf = render_xacro(path, xacro_args, search=search)
         args = dict(validate_args(path, xacro_args))
     else:
         if xacro_args:
@@ -206,9 +251,17 @@ def _load_path(
             loops=side.loops,
         )
 
+    urdf = where.meshes(urdf, path, search)
+
     def rebuild(**more: Any) -> Mechanism:
+        merged = {**xacro_args, **more}
         return load(
-            path, tool_frame=tool_frame, rcm_frame=rcm_frame, **axis, **{**xacro_args, **more}
+            path,
+            tool_frame=tool_frame,
+            rcm_frame=rcm_frame,
+            **axis,
+            **where.keywords(),
+            **merged,
         )
 
     return build_mechanism(

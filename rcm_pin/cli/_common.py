@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from rcm_pin.catalog import load
+from rcm_pin.cli._folders import add_folder_options, folders_from_args
 from rcm_pin.errors import InvalidInputError, NotARotationError, XacroArgumentError
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import POSE
@@ -212,12 +213,14 @@ def exclusive(args: argparse.Namespace, *options: str) -> None:
 
 
 def load_mechanism(args: argparse.Namespace) -> Mechanism:
-    """The mechanism named on the command line, with its ``--arg`` xacro arguments and
-    ``--tool-frame`` / ``--rcm-frame`` / ``--rcm-axis-frame`` / ``--rcm-axis`` (the keywords
-    of :func:`rcm_pin.load`)."""
+    """The mechanism named on the command line, with its ``--arg`` xacro arguments,
+    ``--package-dir`` / ``--mesh-dir`` folders and ``--tool-frame`` / ``--rcm-frame`` /
+    ``--rcm-axis-frame`` / ``--rcm-axis`` (the keywords of :func:`rcm_pin.load`)."""
     keys = ("tool_frame", "rcm_frame", "rcm_axis_frame", "rcm_axis")
     frames = {k: getattr(args, k, None) for k in keys}
-    return load(args.name, **{k: v for k, v in frames.items() if v}, **parse_xacro_args(args.arg))
+    folders = folders_from_args(args)
+    kwargs = {k: v for k, v in frames.items() if v}
+    return load(args.name, **kwargs, **folders, **parse_xacro_args(args.arg))
 
 
 def add_common(parser: argparse.ArgumentParser, mechanism: bool = True) -> None:
@@ -245,6 +248,7 @@ def add_common(parser: argparse.ArgumentParser, mechanism: bool = True) -> None:
         parser.add_argument(
             "--rcm-axis", metavar="AXIS", help="x, y or z: the shaft axis of --rcm-axis-frame (z)"
         )
+        add_folder_options(parser)
     parser.add_argument("--json", action="store_true", help="print one JSON document")
 
 

@@ -9,7 +9,11 @@ and says when ``--assembly`` has no meaning.
 from __future__ import annotations
 
 import argparse
+import contextlib
+import sys
 import time
+import warnings
+from collections.abc import Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -77,13 +81,40 @@ def _load_traj(path: Path, n: int) -> np.ndarray:
     return arr
 
 
+@contextlib.contextmanager
+def _mesh_warnings() -> Iterator[list[str]]:
+    """Meshes that cannot be drawn, each one line ``rcm-pin: warning: ...`` on stderr and
+    kept in the yielded list (the JSON ``warnings``)."""
+    from rcm_pin.model.meshes import MissingMeshWarning
+
+    kept: list[str] = []
+    shown = warnings.showwarning
+
+    def show(message: Warning | str, category: type[Warning], *rest: Any, **kw: Any) -> None:
+        if not issubclass(category, MissingMeshWarning):
+            return shown(message, category, *rest, **kw)
+        kept.append(str(message))
+        print(f"rcm-pin: warning: {message}", file=sys.stderr)
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("always", MissingMeshWarning)
+        warnings.showwarning = show
+        yield kept
+
+
 def cmd_view(args: argparse.Namespace) -> int:
     """Show the inputs' configuration; write ``--html`` / ``--png`` or serve it live.
 
     JSON keys: ``mechanism``, ``input_names``, ``q`` (inputs), ``q_full`` (coordinates),
     ``coordinates``, ``joint_names``, ``assembly`` (label), ``closure_gap`` [m], ``html``,
-    ``png``, ``png_method`` (with ``--png``), ``url`` (live).
+    ``png``, ``png_method`` (with ``--png``), ``url`` (live), ``warnings`` (meshes not
+    drawn, each naming the file; also printed on stderr).
     """
+    with _mesh_warnings() as kept:
+        return _view(args, kept)
+
+
+def _view(args: argparse.Namespace, kept: list[str]) -> int:
     from rcm_pin.viz.snapshot import snapshot
     from rcm_pin.viz.viewer import Viewer
 
@@ -111,6 +142,7 @@ def cmd_view(args: argparse.Namespace) -> int:
             "closure_gap": viewer.closure_gap(),
             "html": None,
             "png": None,
+            "warnings": kept,
         }
         if traj is not None:
             viewer.animate(viewer.input_path(traj), args.dt, repetitions=1000 if live else 1)

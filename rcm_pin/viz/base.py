@@ -27,6 +27,7 @@ with warnings.catch_warnings():  # meshcat imports pyzmq's deprecated zmq.eventl
     from pinocchio.visualize import MeshcatVisualizer
 
 from rcm_pin.errors import InvalidInputError
+from rcm_pin.model.meshes import drawable_urdf
 from rcm_pin.viz.camera import FOV_DEG, meshcat_position
 from rcm_pin.viz.scene import SceneRecorder
 
@@ -81,8 +82,8 @@ class MeshcatScene:
                 self.vis = meshcat.Visualizer(zmq_url=zmq_url)
         else:
             self.vis = meshcat.Visualizer(window=SceneRecorder())
-        visual = pin.buildGeomFromUrdfString(
-            model, urdf, pin.GeometryType.VISUAL, package_dirs=list(package_dirs)
+        visual = pin.buildGeomFromUrdfString(  # meshes it cannot draw: warned, left out
+            model, drawable_urdf(urdf), pin.GeometryType.VISUAL, package_dirs=list(package_dirs)
         )
         # No collision model: with the visual one as collision model Pinocchio loaded every
         # mesh a second time under .../collisions (hidden, but sent and exported: an arm's
