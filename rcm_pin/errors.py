@@ -95,6 +95,12 @@ class SolverError(RcmPinError, RuntimeError):
     """A numerical solver that failed to converge or reported infeasibility."""
 
 
+class SolutionNotFoundError(SolverError):
+    """A numeric search (e.g. the multistart inverse kinematics) that found no solution
+    within its budget, where nothing proves that none exists (unlike
+    :class:`UnreachablePoseError`); more starts may find one."""
+
+
 class MissingExtraError(RcmPinError, ImportError):
     """An optional package that a feature needs is not installed (an extra of rcm-pin);
     the message names the package, the feature and the ``pip install`` command."""
@@ -146,6 +152,7 @@ __all__ = [
     "RcmPinError",
     "SingularConfigurationError",
     "SnapshotError",
+    "SolutionNotFoundError",
     "SolverError",
     "UnknownFrameError",
     "UnknownMechanismError",

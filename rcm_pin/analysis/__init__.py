@@ -1,11 +1,11 @@
 """Generic algorithms on any Mechanism (serial or closed); never a mechanism's name.
 
 Position problems (:mod:`.position`, numeric routes :mod:`.closed_position`,
-:mod:`.serial_ik`), kinematics (:mod:`.kinematics`, :mod:`.jacobians`), velocity
-(:mod:`.velocity`, :mod:`.loop_velocity`), singularities (:mod:`.singularity`,
-:mod:`.closed_singularity`, :mod:`.screws`, :mod:`.maps`, :mod:`.singularity_report`),
-workspace (:mod:`.workspace`), accuracy (:mod:`.accuracy`), mobility (:mod:`.mobility`) and
-the vectorised planar Newton (:mod:`.batch_planar`).
+:mod:`.serial_ik`, the proven reach bound :mod:`.reach`), kinematics (:mod:`.kinematics`,
+:mod:`.jacobians`), velocity (:mod:`.velocity`, :mod:`.loop_velocity`), singularities
+(:mod:`.singularity`, :mod:`.closed_singularity`, :mod:`.screws`, :mod:`.maps`,
+:mod:`.singularity_report`), workspace (:mod:`.workspace`), accuracy (:mod:`.accuracy`),
+mobility (:mod:`.mobility`) and the vectorised planar Newton (:mod:`.batch_planar`).
 
 The re-exports below are the public API of the layer (``docs/api.md``), imported on first
 access: ``import rcm_pin`` loads no scipy or matplotlib.
@@ -76,6 +76,7 @@ if TYPE_CHECKING:
         forward,
         inverse,
     )
+    from rcm_pin.analysis.reach import reach_bound
     from rcm_pin.analysis.screws import (
         ScrewTest,
         screw_test,
@@ -177,6 +178,7 @@ _LAZY = {
     "pose_singularities": "closed_singularity",
     "position_solver": "capabilities",
     "rcm_error": "kinematics",
+    "reach_bound": "reach",
     "reference_poses": "capabilities",
     "sample_joints": "workspace",
     "screw_test": "screws",
@@ -249,6 +251,7 @@ __all__ = [
     "pose_singularities",
     "position_solver",
     "rcm_error",
+    "reach_bound",
     "reference_poses",
     "sample_joints",
     "screw_test",

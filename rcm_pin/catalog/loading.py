@@ -8,7 +8,10 @@ names.
 
 A path's tool frame comes from the ``tool_frame`` argument, else the file's ``<rcm_pin>``
 element, else its YAML sidecar (same stem, ``.yaml``); otherwise loading fails with the
-candidate frames listed, never a guess.
+candidate frames listed, never a guess. The remote centre likewise: ``rcm_frame`` (the
+frame at the point A), ``rcm_axis_frame`` and ``rcm_axis`` (the shaft line: that axis of
+that frame, default the tool frame's z; set it to the shaft for an instrument with a
+wrist), else the ``<rcm_pin>`` element's attributes of the same names.
 
 ROS packages (``$(find pkg)``, ``package://pkg/...``) are found as
 :mod:`rcm_pin.model.packages` says, first in ``package_dirs``; mesh files must lie where
@@ -36,6 +39,8 @@ def load(
     *,
     tool_frame: str | None = None,
     rcm_frame: str | None = None,
+    rcm_axis_frame: str | None = None,
+    rcm_axis: str | None = None,
     # Any, not Mapping[str, str | Path] | None: callers pass **xacro_args of str values
     package_dirs: Any = None,
     mesh_dirs: Iterable[str | Path] = (),
@@ -53,6 +58,9 @@ def load(
             ``panda``, ...) or a path to a ``.urdf`` / ``.xacro`` file.
         tool_frame: the tool (output) frame; required for a file that names none.
         rcm_frame: the frame of the remote centre A, for a file that names none.
+        rcm_axis_frame: the frame whose ``rcm_axis`` is the shaft line through A (default:
+            the file's, else the tool frame).
+        rcm_axis: ``x``, ``y`` or ``z`` (default: the file's, else ``z``).
         package_dirs: a mapping ROS package name -> its folder, searched first for ``$(find pkg)``
             and ``package://pkg/...`` (then ROS_PACKAGE_PATH, AMENT_PREFIX_PATH, the
             folders above the file).
@@ -69,20 +77,24 @@ def load(
         UnknownMechanismError: a bare name that is not in the catalogue (lists the names).
         InvalidInputError: a missing or malformed file.
         XacroArgumentError: unknown, malformed or out-of-range xacro argument.
-        UnknownFrameError: the tool frame is not known (lists the candidate frames).
+        UnknownFrameError: the tool, RCM or RCM axis frame is not known (lists the
+            candidate frames).
+        InvalidInputError: ``rcm_axis`` other than x, y, z, or an RCM axis without an RCM
+            point.
         PackageNotFoundError: a ``$(find pkg)`` package found nowhere (names it and
             ``package_dirs`` / ``--package-dir``).
         UntrustedXacroError: an untrusted xacro file with an expression off the allow-list
             (names the file, line and expression).
     """
     where = _Where(dict(package_dirs or {}), tuple(mesh_dirs), bool(trusted))
+    axis = {k: v for k, v in (("rcm_axis_frame", rcm_axis_frame), ("rcm_axis", rcm_axis)) if v}
     if isinstance(name_or_path, Path):
-        return _load_path(name_or_path, tool_frame, rcm_frame, xacro_args, where)
+        return _load_path(name_or_path, tool_frame, rcm_frame, xacro_args, where, axis)
     if not isinstance(name_or_path, str) or not name_or_path.strip():
         get_entry(str(name_or_path))  # raises, listing the valid names
     if is_path_like(name_or_path):
-        return _load_path(Path(name_or_path), tool_frame, rcm_frame, xacro_args, where)
-    return _load_entry(get_entry(name_or_path), tool_frame, rcm_frame, xacro_args, where)
+        return _load_path(Path(name_or_path), tool_frame, rcm_frame, xacro_args, where, axis)
+    return _load_entry(get_entry(name_or_path), tool_frame, rcm_frame, xacro_args, where, axis)
 
 
 class _Where:
@@ -116,11 +128,14 @@ def from_urdf(
     *,
     tool_frame: str | None = None,
     rcm_frame: str | None = None,
+    rcm_axis_frame: str | None = None,
+    rcm_axis: str | None = None,
 ) -> Mechanism:
-    """A Mechanism from URDF text (its ``<rcm_pin>`` element names family and frames).
+    """A Mechanism from URDF text (its ``<rcm_pin>`` element names family and frames; the
+    keywords as in :func:`load`).
 
     Raises:
-        InvalidInputError: malformed URDF.
+        InvalidInputError: malformed URDF, a bad ``rcm_axis``.
         UnknownFrameError: the tool frame is not known (lists the candidate frames).
     """
     desc = read_description(urdf)
@@ -132,6 +147,8 @@ def from_urdf(
         family=family_named(desc.family),
         tool_frame=tool_frame,
         rcm_frame=rcm_frame,
+        rcm_axis_frame=rcm_axis_frame,
+        rcm_axis=rcm_axis,
     )
 
 
@@ -141,7 +158,9 @@ def _load_entry(
     rcm_frame: str | None,
     xacro_args: dict[str, Any],
     where: _Where,
+    axis: dict[str, Any] | None = None,
 ) -> Mechanism:
+    axis = axis or {}
     if not entry.xacro:
         if xacro_args:
             raise XacroArgumentError(
@@ -158,6 +177,7 @@ def _load_entry(
             family=entry.family,
             tool_frame=tool_frame,
             rcm_frame=rcm_frame,
+            **axis,
         )
     for key in entry.fixed_args:
         if key in xacro_args:
@@ -173,7 +193,12 @@ def _load_entry(
     def rebuild(**more: Any) -> Mechanism:
         merged = {**xacro_args, **more}
         return load(
-            entry.name, tool_frame=tool_frame, rcm_frame=rcm_frame, **where.keywords(), **merged
+            entry.name,
+            tool_frame=tool_frame,
+            rcm_frame=rcm_frame,
+            **axis,
+            **where.keywords(),
+            **merged,
         )
 
     return build_mechanism(
@@ -186,6 +211,7 @@ def _load_entry(
         rcm_frame=rcm_frame,
         rebuild=rebuild,
         source=entry.xacro_path,
+        **axis,
     )
 
 
@@ -205,7 +231,9 @@ def _load_path(
     rcm_frame: str | None,
     xacro_args: dict[str, Any],
     where: _Where,
+    axis: dict[str, Any] | None = None,
 ) -> Mechanism:
+    axis = axis or {}
     if path.suffix not in (".urdf", ".xacro"):
         raise UnknownMechanismError(
             f"{str(path)!r} is neither a catalogue name nor a .urdf / .xacro file; valid: "
@@ -243,7 +271,14 @@ def _load_path(
 
     def rebuild(**more: Any) -> Mechanism:
         merged = {**xacro_args, **more}
-        return load(path, tool_frame=tool_frame, rcm_frame=rcm_frame, **where.keywords(), **merged)
+        return load(
+            path,
+            tool_frame=tool_frame,
+            rcm_frame=rcm_frame,
+            **axis,
+            **where.keywords(),
+            **merged,
+        )
 
     return build_mechanism(
         urdf,
@@ -255,6 +290,7 @@ def _load_path(
         rcm_frame=rcm_frame,
         rebuild=rebuild if path.suffix == ".xacro" else None,
         source=path if path.suffix == ".xacro" else None,
+        **axis,
     )
 
 

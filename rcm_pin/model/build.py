@@ -64,6 +64,8 @@ def build_mechanism(
     rcm_frame: str | None = None,
     rebuild: Callable[..., Mechanism] | None = None,
     source: Path | None = None,
+    rcm_axis_frame: str | None = None,
+    rcm_axis: str | None = None,
 ) -> Mechanism:
     """A :class:`Mechanism` from URDF text and its description.
 
@@ -75,13 +77,17 @@ def build_mechanism(
         args: xacro arguments it was rendered with.
         tool_frame: tool frame; overrides the description.
         rcm_frame: frame of the remote centre; overrides the description.
+        rcm_axis_frame: frame whose ``rcm_axis`` is the shaft (insertion) line; overrides
+            the description (default there: the tool frame).
+        rcm_axis: ``x``, ``y`` or ``z``; overrides the description (default ``z``).
         rebuild: renders the same source with other arguments (for design sensitivities).
         source: the xacro file rendered.
 
     Raises:
         UnknownFrameError: no tool frame known (lists the candidates), or a named frame or
             joint the model does not have.
-        InvalidInputError: malformed URDF or loop description.
+        InvalidInputError: malformed URDF or loop description, an ``rcm_axis`` other than
+            x, y, z, or an RCM axis without an RCM point.
     """
     model, model_full = parse_models(urdf, name)
     model.name = model_full.name = name  # messages name the mechanism, not the URDF robot
@@ -102,7 +108,7 @@ def build_mechanism(
                 + ", ".join(candidate_tool_frames(model))
             )
         output = Output(tool, POSE, frame_index(model, tool, "tool frame"))
-    rcm = _rcm(model, description, rcm_frame, output)
+    rcm = _rcm(model, description, rcm_frame, output, rcm_axis_frame, rcm_axis)
     return Mechanism(
         name=name,
         urdf=urdf,
@@ -128,18 +134,37 @@ def build_mechanism(
 
 
 def _rcm(
-    model: pin.Model, desc: Description, rcm_frame: str | None, output: Output
+    model: pin.Model,
+    desc: Description,
+    rcm_frame: str | None,
+    output: Output,
+    rcm_axis_frame: str | None = None,
+    rcm_axis: str | None = None,
 ) -> RcmSpec | None:
+    """The RCM point and shaft line: the arguments, else the description; the shaft is the
+    ``rcm_axis`` (default z) of ``rcm_axis_frame`` (default the tool frame)."""
     point = rcm_frame or desc.rcm_frame
+    axis = rcm_axis or desc.rcm_axis
+    if axis not in _AXES:
+        raise InvalidInputError(
+            f"rcm_axis {axis!r} is not an axis; valid: x, y or z (the shaft axis of the RCM "
+            "axis frame)"
+        )
     if not point:
+        if rcm_axis_frame or rcm_axis:
+            given = "rcm_axis_frame" if rcm_axis_frame else "rcm_axis"
+            raise InvalidInputError(
+                f"{model.name}: {given} is given but no RCM point (no rcm_frame argument, no "
+                "<rcm_pin rcm_frame=...> element); valid: also rcm_frame=the frame at the "
+                "remote centre, one of " + ", ".join(candidate_tool_frames(model))
+            )
         return None
-    if desc.rcm_axis not in _AXES:
-        raise InvalidInputError(f"rcm_axis {desc.rcm_axis!r}; valid: x, y, z")
-    axis_frame = desc.rcm_axis_frame or output.frame
+    point_id = frame_index(model, point, "RCM frame")
+    axis_frame = rcm_axis_frame or desc.rcm_axis_frame or output.frame
     return RcmSpec(
-        point_frame_id=frame_index(model, point, "RCM frame"),
+        point_frame_id=point_id,
         axis_frame_id=frame_index(model, axis_frame, "RCM axis frame"),
-        axis=_AXES[desc.rcm_axis],
+        axis=_AXES[axis],
     )
 
 
