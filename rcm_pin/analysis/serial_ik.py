@@ -39,9 +39,13 @@ N_STARTS = 16
 
 
 def _finite_box(mech: Mechanism) -> tuple[np.ndarray, np.ndarray]:
-    lo = np.where(np.isfinite(mech.lower), mech.lower, -np.pi)
-    hi = np.where(np.isfinite(mech.upper), mech.upper, np.pi)
-    return lo, hi
+    """The search box: the limits, one turn [-π, π] for a revolute coordinate whose limits
+    span a turn or more (every angle is there; some files write 1e16 for "none"), and
+    [-π, π] for any other unbounded coordinate."""
+    lo, hi = np.array(mech.lower, dtype=float), np.array(mech.upper, dtype=float)
+    turn = np.asarray(mech.revolute, dtype=bool) & ((hi - lo) >= 2 * np.pi)
+    lo[turn], hi[turn] = -np.pi, np.pi
+    return np.where(np.isfinite(lo), lo, -np.pi), np.where(np.isfinite(hi), hi, np.pi)
 
 
 def _error_and_jacobian(
@@ -74,23 +78,31 @@ def solve_one(
     e0 = evaluate(x0)[0]
     if float(np.max(np.abs(e0), initial=0.0)) < TOL:  # already there
         return x0, float(np.max(np.abs(e0), initial=0.0))
+    free = hi > lo  # a coordinate with equal limits is held there, not searched
+    if not free.any():
+        return x0, float(np.max(np.abs(e0), initial=0.0))
     from scipy.optimize import least_squares  # lazy: `import rcm_pin` stays without scipy
 
+    def full(x: np.ndarray) -> np.ndarray:
+        q = x0.copy()
+        q[free] = x
+        return q
+
     res = least_squares(
-        lambda q: evaluate(q)[0],
-        x0,
-        jac=lambda q: evaluate(q)[1],
-        bounds=(lo, hi),
+        lambda x: evaluate(full(x))[0],
+        x0[free],
+        jac=lambda x: evaluate(full(x))[1][:, free],
+        bounds=(lo[free], hi[free]),
         method="trf",
         # the dense trust-region solver stalls where J has more columns than rows (a
         # redundant arm, or a coordinate the output does not depend on): LSMR there
-        tr_solver="exact" if len(e0) >= len(x0) else "lsmr",
+        tr_solver="exact" if len(e0) >= int(free.sum()) else "lsmr",
         ftol=FTOL,
         xtol=1e-15,
         gtol=1e-15,
         max_nfev=max_iter,
     )
-    q = np.clip(res.x, lo, hi)
+    q = np.clip(full(res.x), lo, hi)
     e = evaluate(q)[0]
     return q, float(np.max(np.abs(e), initial=0.0))
 
