@@ -6,7 +6,8 @@
   else from a multistart bounded least squares (:mod:`.serial_ik`). Every branch is checked
   by forward kinematics (the second route) and flagged against the joint limits.
 * Closed mechanisms: ``forward`` (the direct problem) maps drive values to every assembly
-  mode; ``inverse`` maps output coordinates to every working mode. Seeds come from the
+  mode (distinct placements, :mod:`.assembly_modes`); ``inverse`` maps output
+  coordinates to every working mode. Seeds come from the
   family's closed form, else from random starts (:mod:`.closed_position`); every solution
   ends with a Newton polish on Pinocchio's closures and is accepted only with a closure
   residual below :data:`ACCEPT_TOL`.
@@ -20,6 +21,7 @@ import numpy as np
 import pinocchio as pin
 
 from rcm_pin.analysis import closed_position as cp
+from rcm_pin.analysis.assembly_modes import distinct_modes
 from rcm_pin.analysis.capabilities import position_solver
 from rcm_pin.analysis.results import PositionResult, PositionSolution, frame_placement
 from rcm_pin.errors import InvalidInputError, SolverError, UnreachablePoseError
@@ -78,7 +80,7 @@ def forward(
             except SolverError:
                 continue
             sols.append(_closed_solution(mech, qs, f"assembly_{len(sols)}", res, it))
-        sols = cp.dedupe(mech, sols)
+        sols = distinct_modes(mech, cp.dedupe(mech, sols))
         if not sols:
             raise UnreachablePoseError(
                 f"{mech.name}: drives {drives.tolist()} admit no assembly (the loops cannot "

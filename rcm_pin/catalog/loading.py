@@ -8,7 +8,9 @@ names.
 
 A path's tool frame comes from the ``tool_frame`` argument, else the file's ``<rcm_pin>``
 element, else its YAML sidecar (same stem, ``.yaml``); otherwise loading fails with the
-candidate frames listed, never a guess.
+candidate frames listed, never a guess. A closed mechanism's output frame (``output_frame``,
+the same as ``tool_frame``, and ``output_coords``) is optional: a LAAS sidecar names none
+(:mod:`rcm_pin.model.output_choice`).
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ from rcm_pin.catalog.table import CatalogEntry, family_named, get_entry
 from rcm_pin.errors import InvalidInputError, UnknownMechanismError, XacroArgumentError
 from rcm_pin.model.build import build_mechanism, is_path_like
 from rcm_pin.model.mechanism import Mechanism
+from rcm_pin.model.output_choice import parse_coords
 from rcm_pin.model.render import render_xacro, validate_args
 from rcm_pin.model.sidecar import Description, description_from_yaml, read_description
 
@@ -29,6 +32,8 @@ def load(
     *,
     tool_frame: str | None = None,
     rcm_frame: str | None = None,
+    output_frame: str | None = None,
+    output_coords: str | tuple[str, ...] | None = None,
     **xacro_args: Any,
 ) -> Mechanism:
     """Load a shipped mechanism by name, or any URDF / xacro file by path.
@@ -38,6 +43,10 @@ def load(
             ``panda``, ...) or a path to a ``.urdf`` / ``.xacro`` file.
         tool_frame: the tool (output) frame; required for a file that names none.
         rcm_frame: the frame of the remote centre A, for a file that names none.
+        output_frame: closed mechanisms: the output frame (same as ``tool_frame``); a LAAS
+            sidecar names none (:mod:`rcm_pin.model.output_choice`).
+        output_coords: closed mechanisms: its coordinates, e.g. ``"x y"`` or
+            ``("x", "y", "rz")`` (default: the translation the tree moves in).
         **xacro_args: xacro arguments (validated against the file's declarations).
 
     Returns:
@@ -49,13 +58,21 @@ def load(
         XacroArgumentError: unknown, malformed or out-of-range xacro argument.
         UnknownFrameError: the tool frame is not known (lists the candidate frames).
     """
+    if output_frame or output_coords:
+        if output_frame and tool_frame and output_frame != tool_frame:
+            raise InvalidInputError(
+                f"output_frame {output_frame!r} conflicts with tool_frame {tool_frame!r}; "
+                "valid: one of them (they name the same frame)"
+            )
+        tool_frame = output_frame or tool_frame
+    coords = parse_coords(output_coords) if output_coords else None
     if isinstance(name_or_path, Path):
-        return _load_path(name_or_path, tool_frame, rcm_frame, xacro_args)
+        return _load_path(name_or_path, tool_frame, rcm_frame, xacro_args, coords)
     if not isinstance(name_or_path, str) or not name_or_path.strip():
         get_entry(str(name_or_path))  # raises, listing the valid names
     if is_path_like(name_or_path):
-        return _load_path(Path(name_or_path), tool_frame, rcm_frame, xacro_args)
-    return _load_entry(get_entry(name_or_path), tool_frame, rcm_frame, xacro_args)
+        return _load_path(Path(name_or_path), tool_frame, rcm_frame, xacro_args, coords)
+    return _load_entry(get_entry(name_or_path), tool_frame, rcm_frame, xacro_args, coords)
 
 
 def from_urdf(
@@ -83,7 +100,11 @@ def from_urdf(
 
 
 def _load_entry(
-    entry: CatalogEntry, tool_frame: str | None, rcm_frame: str | None, xacro_args: dict[str, Any]
+    entry: CatalogEntry,
+    tool_frame: str | None,
+    rcm_frame: str | None,
+    xacro_args: dict[str, Any],
+    coords: tuple[str, ...] | None = None,
 ) -> Mechanism:
     if not entry.xacro:
         if xacro_args:
@@ -100,6 +121,7 @@ def _load_entry(
             family=entry.family,
             tool_frame=tool_frame,
             rcm_frame=rcm_frame,
+            output_coords=coords,
         )
     for key in entry.fixed_args:
         if key in xacro_args:
@@ -112,7 +134,11 @@ def _load_entry(
 
     def rebuild(**more: Any) -> Mechanism:
         return load(
-            entry.name, tool_frame=tool_frame, rcm_frame=rcm_frame, **{**xacro_args, **more}
+            entry.name,
+            tool_frame=tool_frame,
+            rcm_frame=rcm_frame,
+            output_coords=coords,
+            **{**xacro_args, **more},
         )
 
     return build_mechanism(
@@ -123,6 +149,7 @@ def _load_entry(
         args=args,
         tool_frame=tool_frame,
         rcm_frame=rcm_frame,
+        output_coords=coords,
         rebuild=rebuild,
         source=entry.xacro_path,
     )
@@ -139,7 +166,11 @@ def _read(path: Path) -> str:
 
 
 def _load_path(
-    path: Path, tool_frame: str | None, rcm_frame: str | None, xacro_args: dict[str, Any]
+    path: Path,
+    tool_frame: str | None,
+    rcm_frame: str | None,
+    xacro_args: dict[str, Any],
+    coords: tuple[str, ...] | None = None,
 ) -> Mechanism:
     if path.suffix not in (".urdf", ".xacro"):
         raise UnknownMechanismError(
@@ -174,7 +205,13 @@ def _load_path(
         )
 
     def rebuild(**more: Any) -> Mechanism:
-        return load(path, tool_frame=tool_frame, rcm_frame=rcm_frame, **{**xacro_args, **more})
+        return load(
+            path,
+            tool_frame=tool_frame,
+            rcm_frame=rcm_frame,
+            output_coords=coords,
+            **{**xacro_args, **more},
+        )
 
     return build_mechanism(
         urdf,
@@ -184,6 +221,7 @@ def _load_path(
         args=args,
         tool_frame=tool_frame,
         rcm_frame=rcm_frame,
+        output_coords=coords,
         rebuild=rebuild if path.suffix == ".xacro" else None,
         source=path if path.suffix == ".xacro" else None,
     )

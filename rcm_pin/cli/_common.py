@@ -213,8 +213,13 @@ def exclusive(args: argparse.Namespace, *options: str) -> None:
 
 def load_mechanism(args: argparse.Namespace) -> Mechanism:
     """The mechanism named on the command line, with its ``--arg`` xacro arguments and, for
-    a path, ``--tool-frame`` / ``--rcm-frame``."""
-    frames = {"tool_frame": args.tool_frame, "rcm_frame": args.rcm_frame}
+    a path, ``--tool-frame`` / ``--rcm-frame`` / ``--output-frame`` / ``--output-coords``."""
+    frames = {
+        "tool_frame": args.tool_frame,
+        "rcm_frame": args.rcm_frame,
+        "output_frame": getattr(args, "output_frame", None),
+        "output_coords": getattr(args, "output_coords", None),
+    }
     return load(args.name, **{k: v for k, v in frames.items() if v}, **parse_xacro_args(args.arg))
 
 
@@ -232,6 +237,12 @@ def add_common(parser: argparse.ArgumentParser, mechanism: bool = True) -> None:
         )
         parser.add_argument(
             "--rcm-frame", metavar="FRAME", help="a path's remote-centre frame (optional)"
+        )
+        parser.add_argument(
+            "--output-frame", metavar="FRAME", help="closed: output frame (as --tool-frame)"
+        )
+        parser.add_argument(
+            "--output-coords", metavar="'X Y ...'", help="closed: output coordinates, e.g. 'x y'"
         )
     parser.add_argument("--json", action="store_true", help="print one JSON document")
 

@@ -199,8 +199,13 @@ def to_yaml(desc: Description) -> str:
 def description_from_yaml(text: str) -> Description:
     """Parse a sidecar (LAAS keys ``closed_loop``, ``type``, ``name_mot`` or ``actuated``).
 
+    As LAAS's *example-parallel-robots* writes it: ``type`` in either case (``6d``, ``3D``;
+    ``6d`` for every closure when absent), no output frame (the output is then optional,
+    :mod:`rcm_pin.model.output_choice`); the rcm-pin extras under ``rcm_pin``.
+
     Raises:
-        InvalidInputError: not YAML, or no ``closed_loop`` or drive list.
+        InvalidInputError: not YAML, or no ``closed_loop`` or drive list, or the LAAS
+            joint replacements ``joint_name`` / ``joint_type`` (not supported).
     """
     import yaml  # lazy: ~20 ms to import, only for sidecars
 
@@ -215,7 +220,13 @@ def description_from_yaml(text: str) -> Description:
         raise InvalidInputError("loop sidecar has neither 'actuated' nor 'name_mot'")
     pairs = [(str(a), str(b)) for a, b in raw["closed_loop"]]
     extras = raw.get("rcm_pin") or {}
-    kinds = [str(t) for t in raw.get("type", ["6d"] * len(pairs))]
+    kinds = [str(t).lower() for t in raw.get("type", ["6d"] * len(pairs))]  # LAAS: '3D' too
+    if raw.get("joint_name") or raw.get("joint_type"):
+        raise InvalidInputError(
+            "loop sidecar has 'joint_name' / 'joint_type' (joints the LAAS loader replaces by "
+            f"spherical, universal or frozen ones: {raw.get('joint_name')}); not supported: "
+            "valid: a URDF that has those joints already, and a sidecar without these keys"
+        )
     rows = extras.get("rows") or [[] for _ in pairs]
     if not len(kinds) == len(rows) == len(pairs):
         raise InvalidInputError(

@@ -1,0 +1,48 @@
+"""Distinct assembly modes of a closed mechanism's direct problem.
+
+Two solutions of the same drive values are the same assembly mode when they place the
+mechanism the same way: their outputs agree and the origin of every frame (bodies,
+joints, closure and operational frames) sits at the same world point, each within
+:data:`MODE_TOL` [m, rad]. Configurations that differ only by a self-motion (passive
+joints moving while drives, output and frame origins stay, e.g. a link spinning about the
+axis through its two joints, or two coaxial joints of a ``6d`` closure turning against
+each other, as LAAS's files write revolute closures) are one mode, the first found kept.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+import pinocchio as pin
+
+from rcm_pin.analysis.results import PositionSolution
+from rcm_pin.model.mechanism import Mechanism
+
+#: Two assembly modes are the same below this difference of output and frame origins.
+MODE_TOL = 1e-7
+
+
+def placement_key(mech: Mechanism, q: np.ndarray) -> np.ndarray:
+    """Output value and world positions of every frame origin at configuration q."""
+    q_pin = mech.q_pin(q)
+    pin.framesForwardKinematics(mech.model, mech.data, q_pin)
+    origins = np.concatenate([m.translation for m in mech.data.oMf])
+    return np.concatenate([mech.output.value(mech.data.oMf[mech.output.frame_id]), origins])
+
+
+def distinct_modes(
+    mech: Mechanism, sols: Sequence[PositionSolution], tol: float = MODE_TOL
+) -> list[PositionSolution]:
+    """The solutions with distinct placements (module docstring), first occurrence kept."""
+    out: list[PositionSolution] = []
+    keys: list[np.ndarray] = []
+    for s in sols:
+        key = placement_key(mech, s.q)
+        if not any(float(np.max(np.abs(key - k), initial=0.0)) < tol for k in keys):
+            out.append(s)
+            keys.append(key)
+    return out
+
+
+__all__ = ["MODE_TOL", "distinct_modes", "placement_key"]
