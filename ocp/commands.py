@@ -18,6 +18,7 @@ from ocp.ik import IKProblem, Mode
 from ocp.ik_result import IKResult, failure
 from ocp.tracking import TrackingOCP, TrackingResult
 from rcm_pin.errors import InvalidInputError, SolverError
+from rcm_pin.model.output_choice import require_output
 from rcm_pin.rotations import rpy_to_matrix
 
 
@@ -31,8 +32,12 @@ def ik_command(
     solver: str = "auto",
     restarts: int = 10,
     xacro_args: dict[str, str] | None = None,
+    frames: dict[str, str] | None = None,
 ) -> dict[str, Any]:
     """Numerical IK of any catalogue mechanism (or URDF path).
+
+    ``frames``: the path's ``tool_frame`` / ``rcm_frame`` / ``output_frame`` /
+    ``output_coords`` (:func:`rcm_pin.load`), as ``rcm-pin ik`` takes them.
 
     Serial: the tool frame, pose (``xyz`` and ``rpy`` = alpha, beta, gamma with
     R = Rz(gamma) Ry(beta) Rx(alpha)) or position only (``rpy`` None). Closed: ``pose``,
@@ -44,7 +49,7 @@ def ik_command(
         InvalidInputError: the wrong target kind for the mechanism, or malformed values.
         UnreachablePoseError, SolverError: see :class:`ocp.ik.IKProblem`.
     """
-    mech = rcm_pin.load(name, **(xacro_args or {}))
+    mech = rcm_pin.load(name, **(frames or {}), **(xacro_args or {}))
     prob, target = _problem(mech, xyz, rpy, pose, restarts)
     start = None if q0 is None else mech.to_pin(mech.check_q(np.asarray(q0), "q0"))
     res = prob.solve(target, start, solver=solver, raise_on_failure=False)  # type: ignore[arg-type]
@@ -103,7 +108,7 @@ def _problem(
 ) -> tuple[IKProblem, np.ndarray]:
     """The IK problem and target of ``ik_command`` (serial: tool pose or position)."""
     if mech.loops is not None:
-        coords = ", ".join(mech.output.coords)
+        coords = ", ".join(require_output(mech, "the CasADi IK").coords)
         if pose is None or xyz is not None or rpy is not None:
             raise InvalidInputError(
                 f"{mech.name} is a closed mechanism: give pose = its output coordinates "

@@ -27,6 +27,7 @@ from rcm_pin.analysis.results import PositionResult, PositionSolution, frame_pla
 from rcm_pin.errors import InvalidInputError, SolverError, UnreachablePoseError
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import Output
+from rcm_pin.model.output_choice import require_output
 from rcm_pin.rotations import numeric_array, pose_from_matrix, short_repr
 
 #: A closed-loop solve is accepted below this closure residual [m].
@@ -119,7 +120,9 @@ def inverse(
         NotARotationError: a rotation too far from SO(3).
         SingularConfigurationError: a degenerate target (the family names the cause).
         UnreachablePoseError: no solution (or none inside the limits with ``limits``).
+        UnknownFrameError: a closed mechanism without an output frame (lists candidates).
     """
+    require_output(mech, "the inverse position problem")
     output = mech.output if coords is None else mech.output.subset(_coords(mech, coords))
     value = output.coerce(_as_value(output, target))
     found = position_solver(mech).inverse(mech, value, output)

@@ -16,6 +16,7 @@ from rcm_pin.catalog import load
 from rcm_pin.errors import InvalidInputError, NotARotationError, XacroArgumentError
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import POSE
+from rcm_pin.model.output_choice import require_output
 from rcm_pin.rotations import MAX_ABS, ROTATION_TOL, project_to_rotation, rpy_to_matrix
 
 
@@ -111,10 +112,11 @@ def target_from_args(
     Raises:
         InvalidInputError: a missing, malformed or conflicting target, or an option that
             does not apply to the mechanism's output.
+        UnknownFrameError: a closed mechanism without an output frame (lists candidates).
         NotARotationError: ``--rotation`` too far from SO(3).
     """
     pose, xyz, rpy, rotation = (getattr(args, k, None) for k in ("pose", "xyz", "rpy", "rotation"))
-    coords = mech.output.coords
+    coords = require_output(mech, "a target").coords
     tool_pose, rotation_output = coords == POSE, coords == ("rotation",)
     if pose and (xyz or rpy):
         raise InvalidInputError("--pose conflicts with --xyz / --rpy; valid: one of them")
@@ -214,13 +216,14 @@ def exclusive(args: argparse.Namespace, *options: str) -> None:
 def load_mechanism(args: argparse.Namespace) -> Mechanism:
     """The mechanism named on the command line, with its ``--arg`` xacro arguments and, for
     a path, ``--tool-frame`` / ``--rcm-frame`` / ``--output-frame`` / ``--output-coords``."""
-    frames = {
-        "tool_frame": args.tool_frame,
-        "rcm_frame": args.rcm_frame,
-        "output_frame": getattr(args, "output_frame", None),
-        "output_coords": getattr(args, "output_coords", None),
-    }
-    return load(args.name, **{k: v for k, v in frames.items() if v}, **parse_xacro_args(args.arg))
+    return load(args.name, **path_frames(args), **parse_xacro_args(args.arg))
+
+
+def path_frames(args: argparse.Namespace) -> dict[str, str]:
+    """The ``--tool-frame`` / ``--rcm-frame`` / ``--output-frame`` / ``--output-coords``
+    given, as keywords of :func:`rcm_pin.load`."""
+    keys = ("tool_frame", "rcm_frame", "output_frame", "output_coords")
+    return {k: getattr(args, k) for k in keys if getattr(args, k, None)}
 
 
 def add_common(parser: argparse.ArgumentParser, mechanism: bool = True) -> None:

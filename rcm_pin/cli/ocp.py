@@ -19,7 +19,14 @@ import argparse
 
 import numpy as np
 
-from rcm_pin.cli._common import add_common, emit, parse_matrix, parse_vector, parse_xacro_args
+from rcm_pin.cli._common import (
+    add_common,
+    emit,
+    parse_matrix,
+    parse_vector,
+    parse_xacro_args,
+    path_frames,
+)
 from rcm_pin.errors import InvalidInputError
 
 
@@ -77,6 +84,7 @@ def cmd_ik(args: argparse.Namespace) -> int:
         q0=None if args.q0 is None else parse_vector(args.q0, "q0"),
         solver=args.solver,
         xacro_args=parse_xacro_args(args.arg),
+        frames=path_frames(args),
     )
     emit(args, payload, format_ik(payload))
     return 0
