@@ -22,7 +22,7 @@ FIXTURES = {
 #: name -> output frame to give, and the default coordinates it gets.
 OUTPUT = {
     "five_bar": ("effector", ("x", "y")),
-    "delta": ("effector", ("x", "y", "z")),
+    "delta": ("effector", ("x", "y", "z")),  # singular at the symmetric home: see SIMULATE
     "leg_6d": ("foot", ("x", "z")),
 }
 
@@ -33,3 +33,12 @@ def no_output_message(mech, what: str) -> str:
         f"{what} of {mech.name} needs an output frame and its sidecar names none; valid: "
         f"{HOW} with FRAME one of {', '.join(candidate_frames(mech))}"
     )
+
+
+#: name -> output options of a regular task for ``simulate`` (the 3-RRS "delta" moves in
+#: heave, roll and pitch; x, y and yaw are its parasitic motions, stationary at home).
+SIMULATE = {
+    "five_bar": ["--output-frame", "effector"],
+    "delta": ["--output-frame", "effector", "--output-coords", "z rx ry"],
+    "leg_6d": ["--output-frame", "foot"],
+}

@@ -203,3 +203,10 @@ def test_sidecar_keys_as_laas_writes_them():
         "spherical, universal or frozen ones: ['s1']); not supported: valid: a URDF that has "
         "those joints already, and a sidecar without these keys"
     )
+
+
+@pytest.mark.parametrize("name", ["five_bar", "leg_6d"])
+def test_planar_fixtures_chebyshev_equals_the_rank_count(name):
+    mob = rcm_pin.mobility(rcm_pin.load(DATA / f"{name}.urdf"))
+    assert mob.chebyshev == mob.rank_mobility == 2  # a 6d closure welds in the plane: 3
+    assert f"from the rank: {mob.rank_mobility}" in mob.describe()

@@ -69,7 +69,8 @@ class Scenario:
 
 
 def home_circle(mech: Mechanism) -> Scenario:
-    """A circle of radius L/10 in the first two task coordinates about the home pose, 1 Hz.
+    """A circle of radius L/10 in the first two task coordinates about the home pose, 1 Hz,
+    from the home's working mode.
 
     Raises:
         UnknownFrameError: a closed mechanism without an output (no task to track).
@@ -100,7 +101,21 @@ def home_circle(mech: Mechanism) -> Scenario:
         Gains.from_tau_zeta(0.05, 1.0),
         2.0,
         f"circle of radius {radius:.3g} (task units: m, rad) about the home pose, 1 Hz",
+        mode=_home_mode(mech, value, sol.q),
     )
+
+
+def _home_mode(mech: Mechanism, value: np.ndarray, q_home: np.ndarray) -> int:
+    """Closed: the index of the working mode of ``value`` that is the home configuration
+    (the circle starts on the home's branch), 0 for serial mechanisms."""
+    if mech.loops is None or mech.family.configurations(mech):
+        return 0  # a family's own scenarios and named poses choose their modes
+    from rcm_pin.analysis.closed_position import difference
+    from rcm_pin.analysis.position import inverse
+
+    sols = inverse(mech, value).solutions
+    gaps = [float(np.max(np.abs(difference(mech, s.q, q_home)))) for s in sols]
+    return int(np.argmin(gaps)) if min(gaps) < 1e-6 else 0
 
 
 def _placement(mech: Mechanism, q: np.ndarray) -> Any:
