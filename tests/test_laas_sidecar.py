@@ -196,13 +196,43 @@ def test_sidecar_keys_as_laas_writes_them():
     desc = description_from_yaml(text)
     assert [c.kind for c in desc.loops.closures] == ["3d", "6d"]
     assert desc.loops.output_frame == "" and desc.tool_frame == ""
+    desc = description_from_yaml(text + "joint_name: ['s1']\njoint_type: ['SPHERICAL']\n")
+    assert desc.joint_types == (("s1", "SPHERICAL"),)
     with pytest.raises(InvalidInputError) as err:
-        description_from_yaml(text + "joint_name: ['s1']\njoint_type: ['SPHERICAL']\n")
+        description_from_yaml(text + "joint_name: ['s1', 's2']\njoint_type: ['FIXED']\n")
     assert str(err.value) == (
-        "loop sidecar has 'joint_name' / 'joint_type' (joints the LAAS loader replaces by "
-        "spherical, universal or frozen ones: ['s1']); not supported: valid: a URDF that has "
-        "those joints already, and a sidecar without these keys"
+        "loop sidecar has 2 joint_name and 1 joint_type entries; valid: one type per joint name"
     )
+
+
+def test_laas_joint_replacements(tmp_path):
+    urdf = (DATA / "leg_6d.urdf").read_text()
+    (tmp_path / "leg.urdf").write_text(urdf)
+    base = (DATA / "leg_6d.yaml").read_text()
+    (tmp_path / "leg.yaml").write_text(
+        base + "joint_name: ['free_tip']\njoint_type: ['UJOINT_YZ']\n"
+    )
+    mech = rcm_pin.load(tmp_path / "leg.urdf")
+    assert "free_tip" not in mech.model.names and {"free_tip_Y", "free_tip_Z"} <= set(
+        mech.model.names
+    )
+    assert mech.nq == 6 and np.all(mech.lower == -np.inf)
+    assert rcm_pin.mobility(mech).rank_mobility == 2  # the 6d closure holds the new rotation
+    assert np.max(np.abs(mech.closure_residual(mech.q_pin(mech.home)))) < EXACT
+    (tmp_path / "leg.yaml").write_text(base + "joint_name: ['knee']\njoint_type: ['FIXED']\n")
+    fixed = rcm_pin.load(tmp_path / "leg.urdf")
+    assert "knee" not in fixed.model.names and fixed.nq == 4
+    (tmp_path / "leg.yaml").write_text(base + "joint_name: ['knee']\njoint_type: ['SPHERICAL']\n")
+    with pytest.raises(InvalidInputError) as err:
+        rcm_pin.load(tmp_path / "leg.urdf")
+    assert str(err.value) == (
+        "sidecar joint_type 'SPHERICAL' of joint 'knee' is not supported; valid: FIXED, "
+        "UJOINT_XY, UJOINT_XZ, UJOINT_YX, UJOINT_YZ, UJOINT_ZX, UJOINT_ZY (SPHERICAL: write the "
+        "ball joint into the URDF as the loop's 3d closure)"
+    )
+    (tmp_path / "leg.yaml").write_text(base + "joint_name: ['nope']\njoint_type: ['FIXED']\n")
+    with pytest.raises(UnknownFrameError, match=r"^sidecar joint_name 'nope' is not a joint of"):
+        rcm_pin.load(tmp_path / "leg.urdf")
 
 
 @pytest.mark.parametrize("name", ["five_bar", "leg_6d"])

@@ -21,6 +21,7 @@ from typing import Any
 from rcm_pin.catalog.table import CatalogEntry, family_named, get_entry
 from rcm_pin.errors import InvalidInputError, UnknownMechanismError, XacroArgumentError
 from rcm_pin.model.build import build_mechanism, is_path_like
+from rcm_pin.model.laas_joints import replace_joints
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output_choice import parse_coords
 from rcm_pin.model.render import render_xacro, validate_args
@@ -194,6 +195,7 @@ def _load_path(
     sidecar = path.with_suffix(".yaml")
     if desc.loops is None and sidecar.is_file():
         side = description_from_yaml(_read(sidecar))
+        urdf = replace_joints(urdf, dict(side.joint_types))  # LAAS joint_name / joint_type
         desc = Description(
             family=desc.family or side.family,
             tool_frame=desc.tool_frame or side.tool_frame,

@@ -107,6 +107,8 @@ class Description:
     rcm_axis: str = "z"
     coordinates: tuple[str, ...] = ()
     loops: LoopSpec | None = None
+    #: LAAS ``joint_name`` / ``joint_type`` pairs (:mod:`rcm_pin.model.laas_joints`).
+    joint_types: tuple[tuple[str, str], ...] = ()
 
 
 def _words(element: ET.Element, key: str) -> tuple[str, ...]:
@@ -203,9 +205,12 @@ def description_from_yaml(text: str) -> Description:
     ``6d`` for every closure when absent), no output frame (the output is then optional,
     :mod:`rcm_pin.model.output_choice`); the rcm-pin extras under ``rcm_pin``.
 
+    ``joint_name`` / ``joint_type`` (the LAAS loader's joint replacements) are kept in
+    :attr:`Description.joint_types`, applied by :mod:`rcm_pin.model.laas_joints`.
+
     Raises:
-        InvalidInputError: not YAML, or no ``closed_loop`` or drive list, or the LAAS
-            joint replacements ``joint_name`` / ``joint_type`` (not supported).
+        InvalidInputError: not YAML, or no ``closed_loop`` or drive list, or joint names
+            and types of different lengths.
     """
     import yaml  # lazy: ~20 ms to import, only for sidecars
 
@@ -221,11 +226,11 @@ def description_from_yaml(text: str) -> Description:
     pairs = [(str(a), str(b)) for a, b in raw["closed_loop"]]
     extras = raw.get("rcm_pin") or {}
     kinds = [str(t).lower() for t in raw.get("type", ["6d"] * len(pairs))]  # LAAS: '3D' too
-    if raw.get("joint_name") or raw.get("joint_type"):
+    names, types = raw.get("joint_name") or [], raw.get("joint_type") or []
+    if len(names) != len(types):
         raise InvalidInputError(
-            "loop sidecar has 'joint_name' / 'joint_type' (joints the LAAS loader replaces by "
-            f"spherical, universal or frozen ones: {raw.get('joint_name')}); not supported: "
-            "valid: a URDF that has those joints already, and a sidecar without these keys"
+            f"loop sidecar has {len(names)} joint_name and {len(types)} joint_type entries; "
+            "valid: one type per joint name"
         )
     rows = extras.get("rows") or [[] for _ in pairs]
     if not len(kinds) == len(rows) == len(pairs):
@@ -249,7 +254,10 @@ def description_from_yaml(text: str) -> Description:
         length_scale=float(extras["length_scale"]) if "length_scale" in extras else None,
     )
     return Description(
-        family=str(extras.get("family", "")), tool_frame=spec.output_frame, loops=spec
+        family=str(extras.get("family", "")),
+        tool_frame=spec.output_frame,
+        loops=spec,
+        joint_types=tuple((str(n), str(t)) for n, t in zip(names, types, strict=True)),
     )
 
 
