@@ -240,3 +240,40 @@ def test_planar_fixtures_chebyshev_equals_the_rank_count(name):
     mob = rcm_pin.mobility(rcm_pin.load(DATA / f"{name}.urdf"))
     assert mob.chebyshev == mob.rank_mobility == 2  # a 6d closure welds in the plane: 3
     assert f"from the rank: {mob.rank_mobility}" in mob.describe()
+
+
+SERIAL = """<robot name="arm2">
+  <link name="base"/>
+  <link name="upper"><inertial><mass value="1"/>
+    <inertia ixx="1e-3" ixy="0" ixz="0" iyy="1e-3" iyz="0" izz="1e-3"/></inertial></link>
+  <link name="fore"><inertial><mass value="1"/>
+    <inertia ixx="1e-3" ixy="0" ixz="0" iyy="1e-3" iyz="0" izz="1e-3"/></inertial></link>
+  <link name="tip"/>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="upper"/>
+    <axis xyz="0 0 1"/><limit effort="1" velocity="20"/></joint>
+  <joint name="j2" type="revolute"><origin xyz="0.3 0 0"/><parent link="upper"/>
+    <child link="fore"/><axis xyz="0 0 1"/><limit effort="1" velocity="20"/></joint>
+  <joint name="t" type="fixed"><origin xyz="0.25 0 0"/><parent link="fore"/>
+    <child link="tip"/></joint>
+</robot>"""
+
+
+def test_serial_joints_without_range_sample_and_solve():
+    from rcm_pin.analysis.singularity import grid
+    from rcm_pin.analysis.workspace import sample_joints
+
+    mech = rcm_pin.from_urdf(SERIAL, "arm2", tool_frame="tip")
+    assert np.all(mech.lower == -np.inf) and np.all(mech.upper == np.inf)
+    np.testing.assert_array_equal(mech.home, [0.0, 0.0])  # mid-range rule: 0 when unbounded
+    qs = sample_joints(mech, 50)
+    assert np.all(np.abs(qs) <= np.pi)
+    xs, ys, values = grid(mech, mech.home, 0, 1, n=3)
+    np.testing.assert_allclose(xs, [-np.pi, 0.0, np.pi], atol=EXACT)
+    assert values.shape == (3, 3)
+    q = np.array([0.3, 0.5])
+    target = rcm_pin.forward(mech, q).solutions[0].output
+    res = rcm_pin.inverse(mech, target[:3], coords=("x", "y", "z"))
+    assert res.solutions and all(s.within_limits for s in res.solutions)
+    for s in res.solutions:  # second route: forward kinematics of each branch
+        np.testing.assert_allclose(rcm_pin.forward(mech, s.q).solutions[0].output[:3],
+                                   target[:3], atol=SOLVED)  # fmt: skip

@@ -54,7 +54,9 @@ def sample_joints(mech: Mechanism, n: int, seed: int = 0) -> FloatArray:
         raise InvalidInputError(f"sample count {n}; valid: 1..{MAX_SAMPLES}")
     rng = np.random.default_rng(seed)
     if mech.loops is None:
-        return rng.uniform(mech.lower, mech.upper, size=(n, mech.nq))
+        lo = np.where(np.isfinite(mech.lower), mech.lower, -np.pi)  # unbounded: one turn
+        hi = np.where(np.isfinite(mech.upper), mech.upper, np.pi)
+        return rng.uniform(lo, hi, size=(n, mech.nq))
     lo, hi = _box(mech, mech.loops.drive_q)
     return rng.uniform(lo, hi, size=(n, mech.loops.dof))
 
