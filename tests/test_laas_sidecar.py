@@ -277,3 +277,31 @@ def test_serial_joints_without_range_sample_and_solve():
     for s in res.solutions:  # second route: forward kinematics of each branch
         np.testing.assert_allclose(rcm_pin.forward(mech, s.q).solutions[0].output[:3],
                                    target[:3], atol=SOLVED)  # fmt: skip
+
+
+def test_a_self_motion_is_named_in_the_method(tmp_path):
+    """Two coaxial revolute joints closed by a 6d closure (as LAAS files cut revolute
+    joints): one freedom more than the drives; the fixtures have none."""
+    urdf = (DATA / "five_bar.urdf").read_text()
+    spin = (
+        '<link name="spin"><inertial><mass value="0.01"/><inertia ixx="1e-6" ixy="0" ixz="0" '
+        'iyy="1e-6" iyz="0" izz="1e-6"/></inertial></link><joint name="spin_a" type="revolute">'
+        '<origin xyz="0.3 0 0"/><parent link="distal_1"/><child link="spin"/>'
+        '<axis xyz="0 0 1"/><limit effort="1" velocity="20"/></joint>'
+        '<link name="spin_b_link"/><joint name="spin_b" type="revolute">'
+        '<origin xyz="0.3 0 0"/><parent link="distal_2"/><child link="spin_b_link"/>'
+        '<axis xyz="0 0 1"/><limit effort="1" velocity="20"/></joint></robot>'
+    )
+    (tmp_path / "spun.urdf").write_text(urdf.replace("</robot>", spin))
+    (tmp_path / "spun.yaml").write_text(
+        "closed_loop: [['spin', 'spin_b_link']]\ntype: ['6d']\nname_mot: ['mot1', 'mot2']\n"
+    )
+    mech = rcm_pin.load(tmp_path / "spun.urdf")
+    res = rcm_pin.forward(mech, mech.home[mech.loops.drive_q], all_modes=True)
+    assert res.method.endswith(
+        "; self-motion: nv − rank J_c exceeds the 2 drives by 1, modes along it that move "
+        "frames are listed apart"
+    )
+    assert len(res.solutions) == 2  # the spin moves no frame origin: the two modes remain
+    plain = rcm_pin.load(DATA / "five_bar.urdf")
+    assert "self-motion" not in rcm_pin.forward(plain, plain.home[plain.loops.drive_q]).method

@@ -45,4 +45,25 @@ def distinct_modes(
     return out
 
 
-__all__ = ["MODE_TOL", "distinct_modes", "placement_key"]
+def self_motion(mech: Mechanism, q: np.ndarray) -> int:
+    """Freedoms left with the drives held at a closed configuration q: nv − rank J_c − k
+    (0 for a mechanism whose drives fix every joint)."""
+    from rcm_pin.model.newton import constraint_rank
+
+    jac = mech.constraint_jacobian(mech.q_pin(q))
+    return mech.nv - constraint_rank(jac) - mech.require_loops().dof
+
+
+def note(mech: Mechanism, sols: Sequence[PositionSolution]) -> str:
+    """``""``, or the method note of a direct problem whose modes lie on a self-motion that
+    moves frames (those modes are not merged)."""
+    extra = self_motion(mech, sols[0].q) if sols else 0
+    if extra <= 0:
+        return ""
+    return (
+        f"; self-motion: nv − rank J_c exceeds the {mech.require_loops().dof} drives by "
+        f"{extra}, modes along it that move frames are listed apart"
+    )
+
+
+__all__ = ["MODE_TOL", "distinct_modes", "note", "placement_key", "self_motion"]

@@ -22,6 +22,7 @@ import pinocchio as pin
 
 from rcm_pin.analysis import closed_position as cp
 from rcm_pin.analysis.assembly_modes import distinct_modes
+from rcm_pin.analysis.assembly_modes import note as self_motion_note
 from rcm_pin.analysis.capabilities import position_solver
 from rcm_pin.analysis.results import PositionResult, PositionSolution, frame_placement
 from rcm_pin.errors import InvalidInputError, SolverError, UnreachablePoseError
@@ -87,6 +88,7 @@ def forward(
                 f"{mech.name}: drives {drives.tolist()} admit no assembly (the loops cannot "
                 f"close); valid: drive values inside the workspace of {mech.name}"
             )
+        method += self_motion_note(mech, sols)
         sols = sols if all_modes else sols[:1]
     return PositionResult(mech, "forward", drives, mech.output, tuple(sols), method)
 
