@@ -98,3 +98,16 @@ def test_output_flags_conflict_and_bad_coords(capsys):
     code, out = _json(capsys, ["fk", _path("five_bar"), "--q", "0,0", "--output-frame", "nope"])
     assert code == 2 and out["error"]["type"] == "UnknownFrameError"
     assert out["error"]["message"].startswith("unknown output frame 'nope' in five_bar; valid: ")
+
+
+@pytest.mark.parametrize("name", sorted(FIXTURES))
+def test_vibrations_at_drive_values_without_output(capsys, name):
+    mech = rcm_pin.load(_path(name))
+    argv = ["vibrations", _path(name), "--q", _drives(mech), "--stiffness", "10", "--check"]
+    code, out = _json(capsys, argv)
+    assert code == 0 and out["mode"] == "assembly_0" and len(out["frequencies"]) == mech.loops.dof
+    assert out["max_relative_difference"] < 1e-5  # second route: linearised dynamics
+    code, out = _json(capsys, [*argv, "--mode", "nope"])
+    assert code == 2 and out["error"]["message"].startswith(
+        f"mode 'nope' is not an assembly mode of {name} at these drives; valid: assembly_0, "
+    )

@@ -15,6 +15,7 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -82,7 +83,10 @@ def forward(
             except SolverError:
                 continue
             sols.append(_closed_solution(mech, qs, f"assembly_{len(sols)}", res, it))
-        sols = distinct_modes(mech, cp.dedupe(mech, sols))
+        sols = [  # numbered 0, 1, ... after merging (docs/conventions.md)
+            replace(s, mode=f"assembly_{i}")
+            for i, s in enumerate(distinct_modes(mech, cp.dedupe(mech, sols)))
+        ]
         if not sols:
             raise UnreachablePoseError(
                 f"{mech.name}: drives {drives.tolist()} admit no assembly (the loops cannot "
