@@ -149,7 +149,7 @@ def test_output_frame_keyword_and_inverse_round_trip(name):
     assert rcm_pin.load(DATA / f"{name}.urdf", tool_frame=frame).output == mech.output
 
 
-@pytest.mark.parametrize("name", ["five_bar", "leg_6d"])
+@pytest.mark.parametrize("name", sorted(FIXTURES))
 def test_ocp_ik_agrees_with_ik_and_honours_the_frame(name):
     from ocp.commands import ik_command
 
