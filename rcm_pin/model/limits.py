@@ -1,15 +1,16 @@
 """Joint position limits as the URDF writes them, not as urdfdom reads them.
 
-urdfdom reads a revolute or prismatic joint without ``<limit>``, or with a ``<limit>`` that
-has neither ``lower`` nor ``upper`` (``<limit effort="1" velocity="20"/>``, as every file of
-LAAS's *example-parallel-robots* writes it), as the range [0, 0]: a joint that cannot move.
-The rule here: such a joint is **unbounded**, (−inf, inf). A joint with one bound given
-keeps URDF's default 0 for the other (the file said something about its range). The rule
-is read from the URDF text, since Pinocchio's model cannot tell a missing limit from
+urdfdom reads a revolute or prismatic joint whose ``<limit>`` has neither ``lower`` nor
+``upper`` (``<limit effort="1" velocity="20"/>``, as every file of LAAS's
+*example-parallel-robots* writes it) as the range [0, 0]: a joint that cannot move (it
+refuses such a joint with no ``<limit>`` at all; the rule covers that case too). The rule
+here: such a joint is **unbounded**, (−inf, inf). A joint with one bound given keeps
+URDF's default 0 for the other (the file said something about its range). The rule is
+read from the URDF text, since Pinocchio's model cannot tell a missing limit from
 ``lower="0" upper="0"``.
 
 Consumers treat a non-finite bound as no bound: ``home`` puts an unbounded joint at 0
-(:mod:`rcm_pin.model.configurations`), samplers draw angles in [−π, π).
+(:mod:`rcm_pin.model.configurations`), samplers draw angles in [−π, π].
 """
 
 from __future__ import annotations
