@@ -18,6 +18,7 @@ from ocp.ik import IKProblem, Mode
 from ocp.ik_result import IKResult, failure
 from ocp.tracking import TrackingOCP, TrackingResult
 from rcm_pin.errors import InvalidInputError, SolverError
+from rcm_pin.model.output_choice import require_output
 from rcm_pin.rotations import rpy_to_matrix
 
 
@@ -109,7 +110,7 @@ def _problem(
 ) -> tuple[IKProblem, np.ndarray]:
     """The IK problem and target of ``ik_command`` (serial: tool pose or position)."""
     if mech.loops is not None:
-        coords = ", ".join(mech.output.coords)
+        coords = ", ".join(require_output(mech, "the CasADi IK").coords)
         if pose is None or xyz is not None or rpy is not None:
             raise InvalidInputError(
                 f"{mech.name} is a closed mechanism: give pose = its output coordinates "

@@ -114,10 +114,11 @@ def multistart_seeds(
 def inverse_seeds(
     mech: Mechanism, target: np.ndarray, output: Output, n_starts: int = 96, seed: int = 0
 ) -> list[Branch]:
-    """Working modes of an output target from random starts, each polished and deduplicated."""
+    """Working modes of an output target from random starts, then from ``home`` (last, so
+    that the order of the random starts' modes stays), each polished and deduplicated."""
     rng = np.random.default_rng(seed)
     found: list[np.ndarray] = []
-    for q0 in _random_q(mech, rng, n_starts):
+    for q0 in [*_random_q(mech, rng, n_starts), mech.home]:
         q, _, res = polish(mech, target, output, q0)
         if res < 1e-12 and not any(same(mech, q, f) for f in found):
             found.append(q)

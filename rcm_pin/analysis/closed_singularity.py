@@ -14,6 +14,7 @@ import numpy as np
 
 from rcm_pin.analysis.capabilities import position_solver
 from rcm_pin.analysis.loop_velocity import SINGULAR_TOL, classify, velocity_matrices
+from rcm_pin.analysis.passive_singularity import passive_report
 from rcm_pin.analysis.position import PositionSolution, forward, inverse
 from rcm_pin.analysis.screws import screw_test
 from rcm_pin.analysis.singularity_model import singularity_model
@@ -47,11 +48,14 @@ def parse_mode(mech: Mechanism, text: str | int | None) -> int | None:
 def configuration_report(
     mech: Mechanism, q: np.ndarray, tol: float = SINGULAR_TOL, label: str = ""
 ) -> dict[str, Any]:
-    """Every route's verdict at one closed configuration."""
+    """Every route's verdict at one closed configuration (type 2 alone without an output,
+    :mod:`.passive_singularity`; no screw route without legs)."""
     loops = mech.require_loops()
+    if not loops.output.present:
+        return passive_report(mech, q, tol, label)
     vm = velocity_matrices(mech, q)
     c = classify(mech, q, tol)
-    s = screw_test(mech, q, tol)
+    s = screw_test(mech, q, tol) if loops.legs else None
     scale = np.where(loops.output.angular, loops.length_scale, 1.0)
     ab = singularity_model(mech).ab_matrices(mech, q)
     return {
@@ -67,14 +71,16 @@ def configuration_report(
         "type1": c.type1,
         "type2": c.type2,
         "verdict": c.label,
-        "screw": {
+        "screw": None
+        if s is None
+        else {
             "measure_type1": s.measure_type1,
             "measure_type2": s.measure_type2,
             "type1": s.type1,
             "type2": s.type2,
             "leg_measures": s.leg_measures,
         },
-        "screw_agrees": bool(s.type1 == c.type1 and s.type2 == c.type2),
+        "screw_agrees": None if s is None else bool(s.type1 == c.type1 and s.type2 == c.type2),
     }
 
 

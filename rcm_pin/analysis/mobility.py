@@ -10,7 +10,8 @@ joint a class-5 pair, every mimic joint a gear mesh or belt, i.e. a class-1 pair
 removes one freedom: the transmission equation q_m = k·q_p + c), and every loop closure a
 cut pair: ``3d`` (points coincide) a spherical pair, class 3; ``6d`` a rigid joint, 6.
 Planar mechanisms (every joint about one axis) are also counted by Chebyshev,
-W = 3n − 2p₁ (a point closure in the plane is a revolute pair).
+W = 3n − 2p₁ − 3p₀ (a point closure in the plane is a revolute pair, p₁; a ``6d`` closure
+a rigid joint, p₀).
 
 The formulas ignore the geometry; the rank does not: at a closed configuration the loops
 leave nv − rank J_c freedoms (:func:`rcm_pin.model.newton.constraint_rank`). Where the
@@ -98,7 +99,8 @@ def mobility(mech: Mechanism, q: np.ndarray | None = None) -> MobilityCount:
 
     Args:
         mech: the mechanism.
-        q: a closed configuration for the rank count (default: the family's ``home``);
+        q: a closed configuration for the rank count (default: the family's ``home``, or
+            the first assembly of its drives where ``home`` is left open);
             serial mechanisms: the rank count is the number of coordinates.
     """
     root = ET.fromstring(mech.urdf)
@@ -126,14 +128,29 @@ def mobility(mech: Mechanism, q: np.ndarray | None = None) -> MobilityCount:
         k = 3 if c.kind == "3d" else 6
         pairs[k] = pairs.get(k, 0) + 1
     if q is None:
-        q = mech.home
+        q = _assembled(mech)
     rank = mech.nv - constraint_rank(mech.residual_and_jacobian(q)[1])
     cheb = None
     if plane_normal(mech.model) is not None and not mech.coupling.has_mimic:
-        cheb = 3 * n - 2 * (p5 + len(mech.loops.closures))
+        six = sum(c.kind == "6d" for c in mech.loops.closures)  # a weld in the plane: 3
+        cheb = 3 * n - 2 * (p5 + len(mech.loops.closures) - six) - 3 * six
     return MobilityCount(
         n=n, pairs=pairs, W=somov_malyshev(n, pairs), rank_mobility=rank, chebyshev=cheb
     )
+
+
+def _assembled(mech: Mechanism) -> np.ndarray:
+    """``home``, or where its loops are left open, the first assembly of its drives."""
+    from rcm_pin.analysis.position import forward
+    from rcm_pin.errors import RcmPinError
+
+    q = mech.home
+    if float(np.max(np.abs(mech.closure_residual(mech.q_pin(q))), initial=0.0)) < 1e-9:
+        return q
+    try:
+        return forward(mech, q[mech.require_loops().drive_q]).solutions[0].q
+    except RcmPinError:
+        return q  # no assembly: the rank count at the open home (the message of describe)
 
 
 __all__ = ["MobilityCount", "mobility", "somov_malyshev"]

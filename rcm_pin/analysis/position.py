@@ -6,7 +6,8 @@
   else from a multistart bounded least squares (:mod:`.serial_ik`). Every branch is checked
   by forward kinematics (the second route) and flagged against the joint limits.
 * Closed mechanisms: ``forward`` (the direct problem) maps drive values to every assembly
-  mode; ``inverse`` maps output coordinates to every working mode. Seeds come from the
+  mode (distinct placements, :mod:`.assembly_modes`); ``inverse`` maps output
+  coordinates to every working mode. Seeds come from the
   family's closed form, else from random starts (:mod:`.closed_position`); every solution
   ends with a Newton polish on Pinocchio's closures and is accepted only with a closure
   residual below :data:`ACCEPT_TOL`.
@@ -14,18 +15,22 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
 import pinocchio as pin
 
 from rcm_pin.analysis import closed_position as cp
+from rcm_pin.analysis.assembly_modes import distinct_modes
+from rcm_pin.analysis.assembly_modes import note as self_motion_note
 from rcm_pin.analysis.capabilities import NumericPosition, position_solver
 from rcm_pin.analysis.results import PositionResult, PositionSolution, frame_placement
 from rcm_pin.analysis.serial_ik import check_starts
 from rcm_pin.errors import InvalidInputError, SolverError, UnreachablePoseError
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import Output
+from rcm_pin.model.output_choice import require_output
 from rcm_pin.rotations import numeric_array, pose_from_matrix, short_repr
 
 #: A closed-loop solve is accepted below this closure residual [m].
@@ -79,12 +84,16 @@ def forward(
             except SolverError:
                 continue
             sols.append(_closed_solution(mech, qs, f"assembly_{len(sols)}", res, it))
-        sols = cp.dedupe(mech, sols)
+        sols = [  # numbered 0, 1, ... after merging (docs/conventions.md)
+            replace(s, mode=f"assembly_{i}")
+            for i, s in enumerate(distinct_modes(mech, cp.dedupe(mech, sols)))
+        ]
         if not sols:
             raise UnreachablePoseError(
                 f"{mech.name}: drives {drives.tolist()} admit no assembly (the loops cannot "
                 f"close); valid: drive values inside the workspace of {mech.name}"
             )
+        method += self_motion_note(mech, sols)
         sols = sols if all_modes else sols[:1]
     return PositionResult(mech, "forward", drives, mech.output, tuple(sols), method)
 
@@ -124,7 +133,9 @@ def inverse(
             from the numeric serial route only where the reach bound proves it.
         SolutionNotFoundError: the numeric serial route found none within ``starts``
             starts and nothing proves that none exists.
+        UnknownFrameError: a closed mechanism without an output frame (lists candidates).
     """
+    require_output(mech, "the inverse position problem")
     output = mech.output if coords is None else mech.output.subset(_coords(mech, coords))
     value = output.coerce(_as_value(output, target))
     solver = position_solver(mech)

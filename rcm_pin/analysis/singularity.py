@@ -162,7 +162,8 @@ def grid(
         n: points per axis (≥ 2).
         task: ``"full"`` or ``"position"``.
         name: measure (:data:`MEASURES`).
-        span: ((lo_i, hi_i), (lo_j, hi_j)); the joint limits when None.
+        span: ((lo_i, hi_i), (lo_j, hi_j)); the joint limits when None (an unbounded
+            side: ∓π).
 
     Returns:
         (values of q_i (n,), values of q_j (n,), measure (n, n) indexed [b, a] for
@@ -176,7 +177,9 @@ def grid(
     if n < 2:
         raise InvalidInputError(f"grid size {n}; valid: >= 2")
     if span is None:
-        span = ((mech.lower[i], mech.upper[i]), (mech.lower[j], mech.upper[j]))
+        lo = np.where(np.isfinite(mech.lower), mech.lower, -np.pi)  # unbounded: one turn
+        hi = np.where(np.isfinite(mech.upper), mech.upper, np.pi)
+        span = ((lo[i], hi[i]), (lo[j], hi[j]))
     xs, ys = np.linspace(*span[0], n), np.linspace(*span[1], n)
     out = np.empty((n, n))
     q = q0.copy()

@@ -16,6 +16,10 @@ wrist), else the ``<rcm_pin>`` element's attributes of the same names.
 ROS packages (``$(find pkg)``, ``package://pkg/...``) are found as
 :mod:`rcm_pin.model.packages` says, first in ``package_dirs``; mesh files must lie where
 the description lives or in ``mesh_dirs`` (:mod:`rcm_pin.model.meshes`).
+
+A closed mechanism's output frame (``output_frame``,
+the same as ``tool_frame``, and ``output_coords``) is optional: a LAAS sidecar names none
+(:mod:`rcm_pin.model.output_choice`).
 """
 
 from __future__ import annotations
@@ -27,8 +31,10 @@ from typing import Any
 from rcm_pin.catalog.table import CatalogEntry, family_named, get_entry
 from rcm_pin.errors import InvalidInputError, UnknownMechanismError, XacroArgumentError
 from rcm_pin.model.build import build_mechanism, is_path_like
+from rcm_pin.model.laas_joints import replace_joints
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.meshes import resolve_meshes
+from rcm_pin.model.output_choice import parse_coords
 from rcm_pin.model.packages import PackageSearch, package_search
 from rcm_pin.model.render import render_xacro, validate_args
 from rcm_pin.model.sidecar import Description, description_from_yaml, read_description
@@ -45,6 +51,8 @@ def load(
     package_dirs: Any = None,
     mesh_dirs: Iterable[str | Path] = (),
     trusted: bool = False,
+    output_frame: str | None = None,
+    output_coords: str | tuple[str, ...] | None = None,
     **xacro_args: Any,
 ) -> Mechanism:
     """Load a shipped mechanism by name, or any URDF / xacro file by path.
@@ -68,6 +76,10 @@ def load(
             and the packages).
         trusted: the caller vouches for the xacro file at ``name_or_path``: xacro evaluates
             its expressions unchecked (CLI: ``--trusted``).
+        output_frame: closed mechanisms: the output frame (same as ``tool_frame``); a LAAS
+            sidecar names none (:mod:`rcm_pin.model.output_choice`).
+        output_coords: closed mechanisms: its coordinates, e.g. ``"x y"`` or
+            ``("x", "y", "rz")`` (default: the translation the tree moves in).
         **xacro_args: xacro arguments (validated against the file's declarations).
 
     Returns:
@@ -86,8 +98,19 @@ def load(
         UntrustedXacroError: an untrusted xacro file with an expression off the allow-list
             (names the file, line and expression).
     """
+    if output_frame and tool_frame and output_frame != tool_frame:
+        raise InvalidInputError(
+            f"output_frame {output_frame!r} conflicts with tool_frame {tool_frame!r}; "
+            "valid: one of them (they name the same frame)"
+        )
+    tool_frame = output_frame or tool_frame
     where = _Where(dict(package_dirs or {}), tuple(mesh_dirs), bool(trusted))
-    axis = {k: v for k, v in (("rcm_axis_frame", rcm_axis_frame), ("rcm_axis", rcm_axis)) if v}
+    # the build keywords a rebuild passes on: the RCM axis and the closed output's coordinates
+    axis: dict[str, Any] = {
+        k: v for k, v in (("rcm_axis_frame", rcm_axis_frame), ("rcm_axis", rcm_axis)) if v
+    }
+    if output_coords:
+        axis["output_coords"] = parse_coords(output_coords)
     if isinstance(name_or_path, Path):
         return _load_path(name_or_path, tool_frame, rcm_frame, xacro_args, where, axis)
     if not isinstance(name_or_path, str) or not name_or_path.strip():
@@ -257,6 +280,7 @@ def _load_path(
     sidecar = path.with_suffix(".yaml")
     if desc.loops is None and sidecar.is_file():
         side = description_from_yaml(_read(sidecar))
+        urdf = replace_joints(urdf, dict(side.joint_types))  # LAAS joint_name / joint_type
         desc = Description(
             family=desc.family or side.family,
             tool_frame=desc.tool_frame or side.tool_frame,

@@ -17,6 +17,7 @@ from rcm_pin.cli._folders import add_folder_options, folders_from_args
 from rcm_pin.errors import InvalidInputError, NotARotationError, XacroArgumentError
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import POSE
+from rcm_pin.model.output_choice import require_output
 from rcm_pin.rotations import MAX_ABS, ROTATION_TOL, project_to_rotation, rpy_to_matrix
 
 
@@ -112,10 +113,11 @@ def target_from_args(
     Raises:
         InvalidInputError: a missing, malformed or conflicting target, or an option that
             does not apply to the mechanism's output.
+        UnknownFrameError: a closed mechanism without an output frame (lists candidates).
         NotARotationError: ``--rotation`` too far from SO(3).
     """
     pose, xyz, rpy, rotation = (getattr(args, k, None) for k in ("pose", "xyz", "rpy", "rotation"))
-    coords = mech.output.coords
+    coords = require_output(mech, "a target").coords
     tool_pose, rotation_output = coords == POSE, coords == ("rotation",)
     if pose and (xyz or rpy):
         raise InvalidInputError("--pose conflicts with --xyz / --rpy; valid: one of them")
@@ -214,15 +216,27 @@ def exclusive(args: argparse.Namespace, *options: str) -> None:
 
 def load_mechanism(args: argparse.Namespace) -> Mechanism:
     """The mechanism named on the command line, with its ``--arg`` xacro arguments,
-    ``--package-dir`` / ``--mesh-dir`` folders, ``--trusted`` and ``--tool-frame`` /
-    ``--rcm-frame`` / ``--rcm-axis-frame`` / ``--rcm-axis`` (the keywords of
-    :func:`rcm_pin.load`)."""
-    keys = ("tool_frame", "rcm_frame", "rcm_axis_frame", "rcm_axis")
-    frames = {k: getattr(args, k, None) for k in keys}
+    ``--package-dir`` / ``--mesh-dir`` folders, ``--trusted`` and the frame options of
+    :func:`path_frames` (the keywords of :func:`rcm_pin.load`)."""
     folders = folders_from_args(args)
-    kwargs = {k: v for k, v in frames.items() if v}
     trusted = bool(getattr(args, "trusted", False))
-    return load(args.name, **kwargs, **folders, trusted=trusted, **parse_xacro_args(args.arg))
+    return load(
+        args.name, **path_frames(args), **folders, trusted=trusted, **parse_xacro_args(args.arg)
+    )
+
+
+def path_frames(args: argparse.Namespace) -> dict[str, str]:
+    """The ``--tool-frame`` / ``--rcm-frame`` / ``--rcm-axis-frame`` / ``--rcm-axis`` /
+    ``--output-frame`` / ``--output-coords`` given, as keywords of :func:`rcm_pin.load`."""
+    keys = (
+        "tool_frame",
+        "rcm_frame",
+        "rcm_axis_frame",
+        "rcm_axis",
+        "output_frame",
+        "output_coords",
+    )
+    return {k: getattr(args, k) for k in keys if getattr(args, k, None)}
 
 
 def add_common(parser: argparse.ArgumentParser, mechanism: bool = True) -> None:
@@ -256,6 +270,12 @@ def add_common(parser: argparse.ArgumentParser, mechanism: bool = True) -> None:
             action="store_true",
             help="a .xacro path you vouch for: evaluate its expressions unchecked (default: "
             "only the allow-list of SECURITY.md; a xacro file is code)",
+        )
+        parser.add_argument(
+            "--output-frame", metavar="FRAME", help="closed: output frame (as --tool-frame)"
+        )
+        parser.add_argument(
+            "--output-coords", metavar="'X Y ...'", help="closed: output coordinates, e.g. 'x y'"
         )
     parser.add_argument("--json", action="store_true", help="print one JSON document")
 

@@ -105,8 +105,13 @@ def _mode_lines(rep: dict[str, Any]) -> list[str]:
                 f"; position rank {m['position']['rank']}/{m['position']['full_rank']}; "
                 f"causes: {causes}"
             )
+        elif "sigma_passive" in m:  # closed, no output: type 2 alone
+            lines.append(
+                f"mode {m['mode']}: {m['verdict']}; measure {m['measure_type2']:.4g}, "
+                f"sigma(J_c,p) {fmt(m['sigma_passive'], 4)}"
+            )
         else:
-            screw = "agrees" if m["screw_agrees"] else "DISAGREES"
+            screw = {True: "agrees", False: "DISAGREES", None: "n/a (no legs)"}[m["screw_agrees"]]
             dets = "" if m["det_A"] is None else f"det A {m['det_A']:.4g}, det B {m['det_B']:.4g}, "
             lines.append(
                 f"mode {m['mode']}: {m['verdict']}; {dets}sigma(A) {fmt(m['sigma_A'], 4)}, "

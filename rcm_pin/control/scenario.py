@@ -24,6 +24,8 @@ from rcm_pin.control.simulation_options import SimulationOptions
 from rcm_pin.control.task import task_output
 from rcm_pin.errors import InvalidInputError
 from rcm_pin.model.mechanism import Mechanism
+from rcm_pin.model.newton import constraint_rank
+from rcm_pin.model.output_choice import require_output
 
 
 @dataclass(frozen=True)
@@ -67,9 +69,15 @@ class Scenario:
 
 
 def home_circle(mech: Mechanism) -> Scenario:
-    """A circle of radius L/10 in the first two task coordinates about the home pose, 1 Hz."""
+    """A circle of radius L/10 in the first two task coordinates about the home pose, 1 Hz,
+    from the home's working mode.
+
+    Raises:
+        UnknownFrameError: a closed mechanism without an output (no task to track).
+    """
     from rcm_pin.analysis.position import forward
 
+    require_output(mech, "a simulation (its task)")
     home = mech.home
     task = task_output(mech, None)
     inputs = home if mech.loops is None else home[mech.loops.drive_q]
@@ -93,7 +101,21 @@ def home_circle(mech: Mechanism) -> Scenario:
         Gains.from_tau_zeta(0.05, 1.0),
         2.0,
         f"circle of radius {radius:.3g} (task units: m, rad) about the home pose, 1 Hz",
+        mode=_home_mode(mech, value, sol.q),
     )
+
+
+def _home_mode(mech: Mechanism, value: np.ndarray, q_home: np.ndarray) -> int:
+    """Closed: the index of the working mode of ``value`` that is the home configuration
+    (the circle starts on the home's branch), 0 for serial mechanisms."""
+    if mech.loops is None or mech.family.configurations(mech):
+        return 0  # a family's own scenarios and named poses choose their modes
+    from rcm_pin.analysis.closed_position import difference
+    from rcm_pin.analysis.position import inverse
+
+    sols = inverse(mech, value).solutions
+    gaps = [float(np.max(np.abs(difference(mech, s.q, q_home)))) for s in sols]
+    return int(np.argmin(gaps)) if min(gaps) < 1e-6 else 0
 
 
 def _placement(mech: Mechanism, q: np.ndarray) -> Any:
@@ -153,6 +175,14 @@ def start_state(mech: Mechanism, sc: Scenario) -> tuple[np.ndarray | None, np.nd
             f"{len(sols) - 1}"
         )
     q0 = sols[idx].q
+    mobility = mech.nv - constraint_rank(mech.residual_and_jacobian(mech.q_pin(q0))[1])
+    if mobility != mech.loops.dof:
+        raise InvalidInputError(
+            f"{mech.name}: mobility nv − rank J_c = {mobility} at the start but "
+            f"{mech.loops.dof} drives; valid: a mechanism whose drives fix every joint "
+            "(computed torque cannot hold a self-motion, e.g. two coaxial revolute joints "
+            "closed by a 6d closure: close them with a 3d closure or one joint)"
+        )
     return q0, velocity_for_output(mech, q0, np.asarray(xd0, dtype=float))
 
 

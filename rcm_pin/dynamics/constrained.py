@@ -216,12 +216,17 @@ def acceleration_for_output(
 def velocity_for_output(
     mech: Mechanism, q: np.ndarray, xd: np.ndarray, output: Output | None = None
 ) -> np.ndarray:
-    """Joint rates q̇ (nv,) with J_c q̇ = 0 and J_x q̇ = ẋ (regular across type 2)."""
+    """Joint rates q̇ (nv,) with J_c q̇ = 0 and J_x q̇ = ẋ (regular across type 2; the
+    minimum-norm solution where redundant closure rows or a self-motion make the system
+    non-square)."""
     q = _vector(mech, q, "q", mech.model.nq)
     xd = _vector(mech, xd, "xd", len((mech.output if output is None else output).rows))
     _, jc, _ = world_closure(mech, q, np.zeros(mech.model.nv))
     _, jx, _ = output_drift(mech, q, np.zeros(mech.model.nv), output)
-    return np.linalg.solve(np.vstack([jc, jx]), np.concatenate([np.zeros(len(jc)), xd]))
+    a, b = np.vstack([jc, jx]), np.concatenate([np.zeros(len(jc)), xd])
+    if a.shape[0] == a.shape[1]:
+        return np.linalg.solve(a, b)
+    return np.linalg.lstsq(a, b, rcond=None)[0]
 
 
 __all__ = [

@@ -20,9 +20,11 @@ from rcm_pin.model import joints as jt
 from rcm_pin.model.coupling import coupling_from_urdf
 from rcm_pin.model.family import Family
 from rcm_pin.model.indices import frame_index
+from rcm_pin.model.limits import free_missing_limits
 from rcm_pin.model.loops import build_loops
 from rcm_pin.model.mechanism import Mechanism, RcmSpec
 from rcm_pin.model.output import POSE, Output
+from rcm_pin.model.output_choice import closed_spec
 from rcm_pin.model.sidecar import Description
 
 _AXES = {"x": 0, "y": 1, "z": 2}
@@ -62,6 +64,7 @@ def build_mechanism(
     args: Mapping[str, Any] | None = None,
     tool_frame: str | None = None,
     rcm_frame: str | None = None,
+    output_coords: tuple[str, ...] | None = None,
     rebuild: Callable[..., Mechanism] | None = None,
     source: Path | None = None,
     rcm_axis_frame: str | None = None,
@@ -75,7 +78,8 @@ def build_mechanism(
         description: the ``<rcm_pin>`` element or sidecar contents.
         family: the family (default: the generic :class:`Family`).
         args: xacro arguments it was rendered with.
-        tool_frame: tool frame; overrides the description.
+        tool_frame: tool frame (closed: output frame); overrides the description.
+        output_coords: closed: output coordinates (:mod:`rcm_pin.model.output_choice`).
         rcm_frame: frame of the remote centre; overrides the description.
         rcm_axis_frame: frame whose ``rcm_axis`` is the shaft (insertion) line; overrides
             the description (default there: the tool frame).
@@ -91,14 +95,21 @@ def build_mechanism(
     """
     model, model_full = parse_models(urdf, name)
     model.name = model_full.name = name  # messages name the mechanism, not the URDF robot
+    free_missing_limits(urdf, model, model_full)  # no <limit> range: unbounded, not [0, 0]
     coupling = coupling_from_urdf(urdf, model, model_full)
-    loops = build_loops(model, description.loops) if description.loops is not None else None
+    loops = None
+    if description.loops is not None:
+        spec = closed_spec(model, description.loops, tool_frame, output_coords)
+        loops = build_loops(model, spec)
+    elif output_coords:
+        raise InvalidInputError(
+            f"{name}: output_coords applies to closed mechanisms; a serial tool's output is "
+            "its pose (valid: no output_coords)"
+        )
     named = description.coordinates if loops is None else ()
     coords = jt.coordinates(model, named, closed=loops is not None)
     if loops is not None:
         output = loops.output
-        if tool_frame and tool_frame != output.frame:
-            output = Output(tool_frame, output.coords, frame_index(model, tool_frame, "tool frame"))
     else:
         tool = tool_frame or description.tool_frame
         if not tool:

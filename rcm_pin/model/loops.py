@@ -27,7 +27,7 @@ import pinocchio as pin
 
 from rcm_pin.errors import InvalidInputError
 from rcm_pin.model.indices import frame_index, joint_index
-from rcm_pin.model.output import Output
+from rcm_pin.model.output import NO_OUTPUT, Output
 from rcm_pin.model.sidecar import LegSpec, LoopSpec
 
 __all__ = ["REVOLUTE", "Closure", "Loops", "build_loops", "frame_index", "joint_index"]
@@ -164,8 +164,14 @@ def build_loops(model: pin.Model, spec: LoopSpec) -> Loops:
     pq = [model.joints[j].idx_q + k for j in passive_ids for k in range(model.joints[j].nq)]
     pv = [model.joints[j].idx_v + k for j in passive_ids for k in range(model.joints[j].nv)]
     revolute = [j for j in independent if model.joints[j].shortname() in REVOLUTE]
-    output = Output(
-        spec.output_frame, spec.output_coords, frame_index(model, spec.output_frame, "output frame")
+    output = (
+        Output(
+            spec.output_frame,
+            spec.output_coords,
+            frame_index(model, spec.output_frame, "output frame"),
+        )
+        if spec.output_frame
+        else NO_OUTPUT
     )
     return Loops(
         closures=closures,

@@ -8,6 +8,8 @@ problems solve for. Tokens:
   output; ``rz`` = atan2(R₁₀, R₀₀));
 * ``rotation``: the whole orientation R ∈ SO(3) (a spherical or 6-D output).
 
+:data:`NO_OUTPUT` (empty frame, no tokens) stands for a closed mechanism without one.
+
 Values are flat vectors in token order; ``rotation`` takes 9 entries (R row by row).
 Velocities, errors and Jacobian rows use the LOCAL_WORLD_ALIGNED frame Jacobian [v; ω] of
 the frame: a translation token is one linear row, an angle token one angular row, and
@@ -58,6 +60,8 @@ class Output:
     frame_id: int = -1
 
     def __post_init__(self) -> None:
+        if not self.frame and not self.coords:
+            return  # NO_OUTPUT: a closed mechanism whose sidecar names no output
         bad = [c for c in self.coords if c not in TOKENS]
         if bad or len(set(self.coords)) != len(self.coords) or not self.coords:
             raise InvalidInputError(
@@ -69,6 +73,11 @@ class Output:
             raise InvalidInputError(
                 f"output coordinates {list(self.coords)} mix 'rotation' with planar angles"
             )
+
+    @property
+    def present(self) -> bool:
+        """Whether there is an output (False for :data:`NO_OUTPUT`)."""
+        return bool(self.frame)
 
     # ------------------------------------------------------------------ layout
     @property
@@ -197,4 +206,9 @@ class Output:
         return out
 
 
-__all__ = ["POSE", "TOKENS", "Output"]
+#: The output of a closed mechanism whose sidecar names none (a LAAS ``robot.yaml``): no
+#: coordinates, so values are empty and Jacobians have no rows; commands that need an
+#: output refuse it (:func:`rcm_pin.model.output_choice.require_output`).
+NO_OUTPUT = Output("", (), 0)
+
+__all__ = ["NO_OUTPUT", "POSE", "TOKENS", "Output"]

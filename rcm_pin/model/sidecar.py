@@ -107,6 +107,8 @@ class Description:
     rcm_axis: str = "z"
     coordinates: tuple[str, ...] = ()
     loops: LoopSpec | None = None
+    #: LAAS ``joint_name`` / ``joint_type`` pairs (:mod:`rcm_pin.model.laas_joints`).
+    joint_types: tuple[tuple[str, str], ...] = ()
 
 
 def _words(element: ET.Element, key: str) -> tuple[str, ...]:
@@ -199,8 +201,16 @@ def to_yaml(desc: Description) -> str:
 def description_from_yaml(text: str) -> Description:
     """Parse a sidecar (LAAS keys ``closed_loop``, ``type``, ``name_mot`` or ``actuated``).
 
+    As LAAS's *example-parallel-robots* writes it: ``type`` in either case (``6d``, ``3D``;
+    ``6d`` for every closure when absent), no output frame (the output is then optional,
+    :mod:`rcm_pin.model.output_choice`); the rcm-pin extras under ``rcm_pin``.
+
+    ``joint_name`` / ``joint_type`` (the LAAS loader's joint replacements) are kept in
+    :attr:`Description.joint_types`, applied by :mod:`rcm_pin.model.laas_joints`.
+
     Raises:
-        InvalidInputError: not YAML, or no ``closed_loop`` or drive list.
+        InvalidInputError: not YAML, or no ``closed_loop`` or drive list, or joint names
+            and types of different lengths.
     """
     import yaml  # lazy: ~20 ms to import, only for sidecars
 
@@ -215,7 +225,13 @@ def description_from_yaml(text: str) -> Description:
         raise InvalidInputError("loop sidecar has neither 'actuated' nor 'name_mot'")
     pairs = [(str(a), str(b)) for a, b in raw["closed_loop"]]
     extras = raw.get("rcm_pin") or {}
-    kinds = [str(t) for t in raw.get("type", ["6d"] * len(pairs))]
+    kinds = [str(t).lower() for t in raw.get("type", ["6d"] * len(pairs))]  # LAAS: '3D' too
+    names, types = raw.get("joint_name") or [], raw.get("joint_type") or []
+    if len(names) != len(types):
+        raise InvalidInputError(
+            f"loop sidecar has {len(names)} joint_name and {len(types)} joint_type entries; "
+            "valid: one type per joint name"
+        )
     rows = extras.get("rows") or [[] for _ in pairs]
     if not len(kinds) == len(rows) == len(pairs):
         raise InvalidInputError(
@@ -238,7 +254,10 @@ def description_from_yaml(text: str) -> Description:
         length_scale=float(extras["length_scale"]) if "length_scale" in extras else None,
     )
     return Description(
-        family=str(extras.get("family", "")), tool_frame=spec.output_frame, loops=spec
+        family=str(extras.get("family", "")),
+        tool_frame=spec.output_frame,
+        loops=spec,
+        joint_types=tuple((str(n), str(t)) for n, t in zip(names, types, strict=True)),
     )
 
 
