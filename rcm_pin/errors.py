@@ -64,6 +64,20 @@ class SolverError(RcmPinError, RuntimeError):
     """A numerical solver that failed to converge or reported infeasibility."""
 
 
+class FolderBusyError(RcmPinError, RuntimeError):
+    """An output folder locked by another run (the message names its PID); exit 2."""
+
+
+class ComputationLostError(SolverError):
+    """A computation that could not finish because its workers or its Dask scheduler were
+    lost; what had finished is kept. A failed solve to the CLI (exit 3)."""
+
+
+class CodeMismatchError(RcmPinError, RuntimeError):
+    """A worker whose code hash differs from the client's (other sources or package
+    versions): its results would not be those of the client's code, so it refuses."""
+
+
 class MissingExtraError(RcmPinError, ImportError):
     """An optional package that a feature needs is not installed (an extra of rcm-pin);
     the message names the package, the feature and the ``pip install`` command."""
@@ -106,6 +120,9 @@ def require(extra: str, module: str) -> types.ModuleType:
 
 __all__ = [
     "EXTRAS",
+    "CodeMismatchError",
+    "ComputationLostError",
+    "FolderBusyError",
     "InvalidInputError",
     "JointLimitError",
     "MissingExtraError",
