@@ -23,6 +23,7 @@ its unfinished chunks, and a rerun computes only those.
 
 from __future__ import annotations
 
+import asyncio
 import contextlib
 import os
 import time
@@ -111,6 +112,7 @@ def _dask(
             "address of a running scheduler, e.g. tcp://127.0.0.1:8786"
         ) from None
     code, done = _code(parts), 0
+    lost = (distributed.KilledWorker, distributed.client.FutureCancelledError)
     try:
         futures = client.map(
             evaluate_chunk, parts, metrics=metrics, expected=code, retries=RETRIES, pure=False
@@ -120,10 +122,11 @@ def _dask(
                 rows = future.result()
             except RcmPinError:
                 raise
-            except (OSError, TimeoutError, CancelledError, distributed.KilledWorker) as exc:
+            except (OSError, TimeoutError, CancelledError, asyncio.CancelledError, *lost) as exc:
                 raise ComputationLostError(
                     f"the Dask scheduler {scheduler} or its workers were lost after {done} of "
-                    f"{len(parts)} chunks ({type(exc).__name__}: {exc}); the finished chunks "
+                    f"{len(parts)} chunks ({type(exc).__name__}: {' '.join(str(exc).split())}); "
+                    "the finished chunks "
                     "are kept in --out; valid: rerun the same study once the cluster is back "
                     "(it computes only the missing designs)"
                 ) from None
