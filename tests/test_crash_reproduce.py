@@ -24,6 +24,7 @@ import fake_slow
 import pytest
 from crash import descendants, files, kill_when, survivors, wait_for
 
+from rcm_pin.cli import main
 from rcm_pin.errors import FolderBusyError
 from rcm_pin.processes import lock_holder
 from rcm_pin.report import writer
@@ -139,3 +140,25 @@ def test_no_pool_process_outlives_a_killed_run(tmp_path):
     workers = {int(p.stem) for p in pids.glob("*.pid")}
     assert workers <= family and len(family) >= 3  # the fork server and two workers at least
     assert survivors(family) == set()
+
+
+def test_the_cli_exits_2_naming_the_run_that_holds_the_folder(tmp_path, capsys):
+    hold = "import sys, time; from rcm_pin.processes import folder_lock\n"
+    hold += "with folder_lock(sys.argv[1]):\n    print('held', flush=True); time.sleep(60)"
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    holder = subprocess.Popen(
+        [sys.executable, "-c", hold, str(tmp_path)], env=env, stdout=subprocess.PIPE, text=True
+    )
+    try:
+        assert holder.stdout is not None and holder.stdout.readline() == "held\n"
+        code = main(["reproduce", "--out", str(tmp_path), "--only", "position", "--json"])
+    finally:
+        holder.kill()
+        holder.wait()
+    error = json.loads(capsys.readouterr().out)["error"]
+    assert code == 2 and error == {
+        "type": "FolderBusyError",
+        "message": f"--out {tmp_path} is in use by another run (PID {holder.pid}); valid: wait "
+        "until it ends, or another folder",
+    }
+    assert sorted(p.name for p in tmp_path.iterdir()) == [".lock"]  # nothing computed
