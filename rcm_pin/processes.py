@@ -34,7 +34,7 @@ from concurrent.futures import ProcessPoolExecutor
 from multiprocessing import get_all_start_methods, get_context
 from pathlib import Path
 
-from rcm_pin.errors import FolderBusyError
+from rcm_pin.errors import FolderBusyError, InvalidInputError
 
 #: ``PR_SET_PDEATHSIG`` of <linux/prctl.h>.
 PR_SET_PDEATHSIG = 1
@@ -99,6 +99,7 @@ def folder_lock(folder: Path, option: str = "--out") -> Iterator[None]:
 
     Raises:
         FolderBusyError: another process holds it; the message names its PID.
+        InvalidInputError: the lock file cannot be created (no such folder, read-only).
     """
     name = str(Path(folder).resolve())
     if name in _held:
@@ -106,7 +107,13 @@ def folder_lock(folder: Path, option: str = "--out") -> Iterator[None]:
         return
     import fcntl  # POSIX only; imported here so that the module imports on Windows
 
-    fd = os.open(Path(folder) / LOCK, os.O_RDWR | os.O_CREAT, 0o644)
+    try:
+        fd = os.open(Path(folder) / LOCK, os.O_RDWR | os.O_CREAT, 0o644)
+    except OSError as exc:
+        raise InvalidInputError(
+            f"{option} {folder}: cannot open its lock file {LOCK} ({exc.strerror}); valid: an "
+            "existing folder this user can write"
+        ) from None
     try:
         fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
     except BlockingIOError:

@@ -38,7 +38,7 @@ from tqdm import tqdm
 from rcm_pin.design import store
 from rcm_pin.design.evaluate import evaluate_chunk, model_hash
 from rcm_pin.design.study import Design, Study, designs, validate
-from rcm_pin.errors import ComputationLostError, InvalidInputError, RcmPinError, require
+from rcm_pin.errors import ComputationLostError, InvalidInputError, require
 from rcm_pin.processes import folder_lock, process_pool
 
 if TYPE_CHECKING:
@@ -94,8 +94,13 @@ def _local(
     code = _code(parts)
     with process_pool(workers, ["rcm_pin.design.evaluate"]) as pool:
         futures = [pool.submit(evaluate_chunk, part, metrics, code) for part in parts]
-        for future in as_completed(futures):
-            yield future.result()
+        try:
+            for future in as_completed(futures):
+                yield future.result()
+        except BaseException:  # stopped (an error, Ctrl-C): drop the chunks not started
+            for future in futures:
+                future.cancel()
+            raise
 
 
 def _dask(
@@ -112,26 +117,29 @@ def _dask(
             "address of a running scheduler, e.g. tcp://127.0.0.1:8786"
         ) from None
     code, done = _code(parts), 0
-    lost = (distributed.KilledWorker, distributed.client.FutureCancelledError)
+    lost = (
+        distributed.comm.CommClosedError,
+        distributed.client.FutureCancelledError,
+        distributed.KilledWorker,
+        CancelledError,
+        asyncio.CancelledError,
+        TimeoutError,
+    )
     try:
         futures = client.map(
             evaluate_chunk, parts, metrics=metrics, expected=code, retries=RETRIES, pure=False
         )
         for future in dask_completed(futures, loop=client.loop):
-            try:
-                rows = future.result()
-            except RcmPinError:
-                raise
-            except (OSError, TimeoutError, CancelledError, asyncio.CancelledError, *lost) as exc:
-                raise ComputationLostError(
-                    f"the Dask scheduler {scheduler} or its workers were lost after {done} of "
-                    f"{len(parts)} chunks ({type(exc).__name__}: {' '.join(str(exc).split())}); "
-                    "the finished chunks "
-                    "are kept in --out; valid: rerun the same study once the cluster is back "
-                    "(it computes only the missing designs)"
-                ) from None
+            rows = future.result()
             done += 1
             yield rows
+    except lost as exc:  # a design's own error is a row; these are the cluster's
+        raise ComputationLostError(
+            f"the Dask scheduler {scheduler} or its workers were lost after {done} of "
+            f"{len(parts)} chunks ({type(exc).__name__}: {' '.join(str(exc).split())}); the "
+            "finished chunks are kept in --out; valid: rerun the same study once the cluster "
+            "is back (it computes only the missing designs)"
+        ) from None
     finally:
         with contextlib.suppress(Exception):  # a lost scheduler: nothing left to close
             client.close(timeout=2)
