@@ -134,6 +134,17 @@ def folder_lock(folder: Path, option: str = "--out") -> Iterator[None]:
         os.close(fd)  # closing the descriptor releases the lock
 
 
+def remove_temporaries(folder: Path) -> int:
+    """Delete the temporary files :func:`atomic_write` left in ``folder`` (a run killed
+    between writing and renaming); call it holding the folder's lock. Returns the count."""
+    count = 0
+    for path in Path(folder).glob(".*.tmp"):
+        with contextlib.suppress(OSError):
+            path.unlink()
+            count += 1
+    return count
+
+
 def atomic_write(path: Path, data: bytes) -> Path:
     """Write ``data`` to ``path`` by atomic rename (module docstring) and return ``path``."""
     path = Path(path)
@@ -160,4 +171,5 @@ __all__ = [
     "lock_holder",
     "parent_death_signal",
     "process_pool",
+    "remove_temporaries",
 ]

@@ -126,11 +126,15 @@ def test_a_damaged_part_is_set_aside_and_recomputed(damage, tmp_path, reference)
     else:
         data = data[:100] + bytes([data[100] ^ 0x01]) + data[101:]
     parts[1].write_bytes(data)
+    stale = [tmp_path / ".designs.parquet.x1.tmp", tmp_path / store.PARTS / ".abc.parquet.x2.tmp"]
+    for path in stale:  # as a run killed between writing and renaming leaves them
+        path.write_bytes(data[:10])
     with pytest.warns(store.StoreWarning, match="do not match its SHA-256 name"):
         again = run(STUDY, tmp_path, workers=1, progress=False)
     assert (again.computed, again.reused) == (4, 4)  # the damaged part's 2 and the 2 missing
     assert (tmp_path / store.TABLE).read_bytes() == reference[0]
     assert parts[1].with_suffix(".damaged").is_file()  # kept aside, not served
+    assert not any(path.exists() for path in stale)
 
 
 def _edited(monkeypatch, tmp_path, module: str) -> None:

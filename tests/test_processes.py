@@ -7,7 +7,13 @@ import os
 import pytest
 
 from rcm_pin.errors import InvalidInputError
-from rcm_pin.processes import atomic_write, folder_lock, lock_holder, process_pool
+from rcm_pin.processes import (
+    atomic_write,
+    folder_lock,
+    lock_holder,
+    process_pool,
+    remove_temporaries,
+)
 
 
 def test_the_lock_records_its_holder_and_is_reentrant(tmp_path):
@@ -30,6 +36,14 @@ def test_an_atomic_write_that_fails_leaves_the_old_file_and_no_temporary(tmp_pat
         atomic_write(path, "not bytes")  # type: ignore[arg-type]
     assert path.read_bytes() == b"old" and sorted(tmp_path.iterdir()) == [path]
     assert oct(path.stat().st_mode & 0o777) == oct(0o666 & ~_umask())
+
+
+def test_temporaries_of_a_killed_write_are_removed_and_nothing_else(tmp_path):
+    (tmp_path / ".table.bin.k3j.tmp").write_bytes(b"half")
+    (tmp_path / "kept.tmp").write_bytes(b"a user's file")
+    atomic_write(tmp_path / "table.bin", b"whole")
+    assert remove_temporaries(tmp_path) == 1
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["kept.tmp", "table.bin"]
 
 
 def _umask() -> int:

@@ -39,7 +39,7 @@ from rcm_pin.design import store
 from rcm_pin.design.evaluate import evaluate_chunk, model_hash
 from rcm_pin.design.study import Design, Study, designs, validate
 from rcm_pin.errors import ComputationLostError, InvalidInputError, require
-from rcm_pin.processes import folder_lock, process_pool
+from rcm_pin.processes import folder_lock, process_pool, remove_temporaries
 
 if TYPE_CHECKING:
     import pandas as pd
@@ -222,6 +222,9 @@ def run(
         raise InvalidInputError(f"--out {out}: no such folder; valid: an existing folder")
     workers = check_workers(workers)
     with folder_lock(Path(out)) if out is not None else contextlib.nullcontext():
+        if out is not None:  # temporaries of a killed run: no other run is writing (lock)
+            for folder in (Path(out), Path(out) / store.PARTS):
+                remove_temporaries(folder)
         old = store.read(Path(out)) if out is not None else pd.DataFrame()
         have = store.done(old, metrics)
         todo_all = designs(study)

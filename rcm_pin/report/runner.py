@@ -50,7 +50,7 @@ from pathlib import Path
 
 from rcm_pin.errors import MissingExtraError, require
 from rcm_pin.model.resources import urdf_dir, xacro_dir
-from rcm_pin.processes import folder_lock, process_pool
+from rcm_pin.processes import folder_lock, process_pool, remove_temporaries
 from rcm_pin.report.cache import read_entry, write_entry
 from rcm_pin.report.framework import Section
 
@@ -230,6 +230,8 @@ def run_sections(
             else:
                 todo.append((name, module))
         shutil.rmtree(out_dir / ".work", ignore_errors=True)  # left by killed runs: we lock
+        for folder in (out_dir, out_dir / ".cache"):
+            remove_temporaries(folder)
         work = out_dir / ".work" / f"{os.getpid()}-{secrets.token_hex(4)}"
         try:
             if jobs == 1 or len(todo) <= 1:
