@@ -23,7 +23,7 @@ import numpy as np
 import rcm_pin
 from rcm_pin.errors import UnreachablePoseError
 from rcm_pin.linkage.synthesis import LAYOUTS, synthesize
-from rcm_pin.report.eye_drive import crank_turn
+from rcm_pin.studies.four_bar_turn import crank_turn
 
 
 def main() -> None:

@@ -13,6 +13,11 @@ inverse-kinematics NLPs and trajectory-tracking OCPs built from it.
 * :class:`TrackingOCP`: tool-position tracking of a serial mechanism by direct collocation
   with implicit (inverse) dynamics and drive limits; :mod:`ocp.paper000` sets up paper
   000's example;
+* :class:`RcmIK` / :class:`RcmTrackingOCP`: an arm's tool held through a trocar (a
+  programmable RCM, :mod:`ocp.rcm`, :mod:`ocp.rcm_tracking`) by an NLP and an OCP.
+
+The re-exports are the public API of the package (``docs/api.md``), imported on first
+access: ``import ocp`` loads no CasADi.
 """
 
 from __future__ import annotations
@@ -24,6 +29,8 @@ from rcm_pin.lazy import lazy_exports
 if TYPE_CHECKING:
     from ocp.ik import IKProblem, IKResult, solve_ik
     from ocp.ik_constraints import AxisThroughPoint, OrientationCone
+    from ocp.rcm import RcmIK, RcmIKResult
+    from ocp.rcm_tracking import RcmTrackingOCP, RcmTrackingResult
     from ocp.symbolic import SymbolicModel
     from ocp.tracking import TrackingOCP, TrackingResult
 
@@ -35,6 +42,10 @@ _LAZY = {
     "IKProblem": "ik",
     "IKResult": "ik",
     "OrientationCone": "ik_constraints",
+    "RcmIK": "rcm",
+    "RcmIKResult": "rcm",
+    "RcmTrackingOCP": "rcm_tracking",
+    "RcmTrackingResult": "rcm_tracking",
     "SymbolicModel": "symbolic",
     "TrackingOCP": "tracking",
     "TrackingResult": "tracking",
@@ -50,6 +61,10 @@ __all__ = [
     "IKProblem",
     "IKResult",
     "OrientationCone",
+    "RcmIK",
+    "RcmIKResult",
+    "RcmTrackingOCP",
+    "RcmTrackingResult",
     "SymbolicModel",
     "TrackingOCP",
     "TrackingResult",

@@ -22,7 +22,7 @@ from rcm_pin.rotations import rpy_to_matrix
 
 
 def ik_command(
-    name: str,
+    name: str | rcm_pin.Mechanism,
     xyz: ArrayLike | None = None,
     rpy: ArrayLike | None = None,
     *,
@@ -31,8 +31,10 @@ def ik_command(
     solver: str = "auto",
     restarts: int = 10,
     xacro_args: dict[str, str] | None = None,
+    trusted: bool = False,
 ) -> dict[str, Any]:
-    """Numerical IK of any catalogue mechanism (or URDF path).
+    """Numerical IK of any catalogue mechanism (or URDF path, or a loaded Mechanism: the
+    CLI's, with its frame options).
 
     Serial: the tool frame, pose (``xyz`` and ``rpy`` = alpha, beta, gamma with
     R = Rz(gamma) Ry(beta) Rx(alpha)) or position only (``rpy`` None). Closed: ``pose``,
@@ -44,7 +46,11 @@ def ik_command(
         InvalidInputError: the wrong target kind for the mechanism, or malformed values.
         UnreachablePoseError, SolverError: see :class:`ocp.ik.IKProblem`.
     """
-    mech = rcm_pin.load(name, **(xacro_args or {}))
+    mech = (
+        name
+        if isinstance(name, rcm_pin.Mechanism)
+        else rcm_pin.load(name, trusted=trusted, **(xacro_args or {}))
+    )
     prob, target = _problem(mech, xyz, rpy, pose, restarts)
     start = None if q0 is None else mech.to_pin(mech.check_q(np.asarray(q0), "q0"))
     res = prob.solve(target, start, solver=solver, raise_on_failure=False)  # type: ignore[arg-type]

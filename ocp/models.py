@@ -20,6 +20,7 @@ import rcm_pin
 from ocp.symbolic import SymbolicModel
 from rcm_pin.catalog import ENTRIES
 from rcm_pin.errors import InvalidInputError
+from rcm_pin.model.build import parse_models
 from rcm_pin.model.mechanism import Mechanism
 
 #: What the CasADi layer accepts as a model.
@@ -58,15 +59,18 @@ def serial_names() -> tuple[str, ...]:
 
 
 def model_from_urdf(path: str | Path, mimic: bool = True) -> pin.Model:
-    """Parse a URDF file (mimic joints kept as ``JointModelMimic`` by default).
+    """Parse a URDF file (mimic joints kept as ``JointModelMimic`` by default) as
+    :func:`rcm_pin.load` does: continuous joints of mimic pairs as unbounded revolute
+    (``docs/joints.md``).
 
     Raises:
-        InvalidInputError: no file at ``path``.
+        InvalidInputError: no file at ``path``, or a URDF Pinocchio cannot build.
     """
     p = Path(path)
     if not p.is_file():
         raise InvalidInputError(f"no URDF file at {p}; valid: the path of an existing .urdf")
-    return pin.buildModelFromUrdf(str(p), mimic=mimic)
+    model, model_full = parse_models(p.read_text(), p.stem)
+    return model if mimic else model_full
 
 
 def require_serial(source: Any, what: str) -> None:

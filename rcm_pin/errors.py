@@ -40,6 +40,37 @@ class InvalidInputError(RcmPinError, ValueError):
     """An input array of the wrong shape or with NaN / infinite entries."""
 
 
+class UnsupportedJointError(InvalidInputError):
+    """A URDF joint a Mechanism has no coordinates for (``floating``, ``planar``)."""
+
+
+class PackageNotFoundError(RcmPinError, LookupError):
+    """A ROS package (``$(find pkg)``, ``package://pkg/...``) found in no searched folder;
+    the message names it and ``--package-dir`` / ``package_dirs=``."""
+
+
+class MeshLocationError(RcmPinError, ValueError):
+    """A mesh file outside the description's folders and the declared ones; the message
+    names ``--mesh-dir`` / ``mesh_dirs=``, which allow it."""
+
+
+class UntrustedXacroError(InvalidInputError):
+    """An expression of an untrusted xacro file that is not on the allow-list of
+    :mod:`rcm_pin.model.xacro_safety` (the file is data, not code).
+
+    Attributes:
+        file: the xacro file of the expression.
+        line: its line (None: an expression built while rendering).
+        expression: the expression text.
+    """
+
+    def __init__(
+        self, message: str, *, file: str = "", line: int | None = None, expression: str = ""
+    ) -> None:
+        super().__init__(message)
+        self.file, self.line, self.expression = file, line, expression
+
+
 class NotARotationError(RcmPinError, ValueError):
     """A matrix that is too far from a rotation matrix to be projected onto one."""
 
@@ -76,6 +107,12 @@ class ComputationLostError(SolverError):
 class CodeMismatchError(RcmPinError, RuntimeError):
     """A worker whose code hash differs from the client's (other sources or package
     versions): its results would not be those of the client's code, so it refuses."""
+
+
+class SolutionNotFoundError(SolverError):
+    """A numeric search (e.g. the multistart inverse kinematics) that found no solution
+    within its budget, where nothing proves that none exists (unlike
+    :class:`UnreachablePoseError`); more starts may find one."""
 
 
 class MissingExtraError(RcmPinError, ImportError):
@@ -125,15 +162,20 @@ __all__ = [
     "FolderBusyError",
     "InvalidInputError",
     "JointLimitError",
+    "MeshLocationError",
     "MissingExtraError",
     "NotARotationError",
+    "PackageNotFoundError",
     "RcmPinError",
     "SingularConfigurationError",
     "SnapshotError",
+    "SolutionNotFoundError",
     "SolverError",
     "UnknownFrameError",
     "UnknownMechanismError",
     "UnreachablePoseError",
+    "UnsupportedJointError",
+    "UntrustedXacroError",
     "XacroArgumentError",
     "require",
 ]

@@ -37,6 +37,31 @@ def lazy_exports(
     return get, names
 
 
+def lazy_modules(
+    package: str, names: Collection[str]
+) -> tuple[Callable[[str], Any], Callable[[], list[str]]]:
+    """The module-level ``__getattr__`` and ``__dir__`` of ``package`` that make each of
+    ``names`` (submodules of ``package``) an attribute, imported on first access: after
+    ``from rcm_pin.mechanisms import rcm``, ``rcm.workspace`` is the module
+    ``rcm_pin.mechanisms.rcm.workspace`` whether or not something imported it before.
+
+    Raises:
+        AttributeError: on access to a name that is not one of ``names``.
+    """
+    namespace = sys.modules[package].__dict__
+    public = frozenset(names)
+
+    def get(name: str) -> Any:
+        if name not in public:
+            raise AttributeError(f"module {package!r} has no attribute {name!r}")
+        return importlib.import_module(f"{package}.{name}")  # sets it on the package
+
+    def listing() -> list[str]:
+        return sorted({*namespace, *public})
+
+    return get, listing
+
+
 def keep_functions(package: str, names: Collection[str]) -> None:
     """Make each of ``names`` in ``package`` stay the function of that name when the
     submodule of the same name is imported (the import system sets a loaded submodule as
@@ -64,4 +89,4 @@ def lapack(routine: str) -> Callable[..., Any]:
     return getattr(routines, routine)  # type: ignore[no-any-return]
 
 
-__all__ = ["keep_functions", "lapack", "lazy_exports"]
+__all__ = ["keep_functions", "lapack", "lazy_exports", "lazy_modules"]

@@ -15,7 +15,8 @@ from conftest import EXACT
 
 from rcm_pin.linkage.fourbar import FourBar, performance
 from rcm_pin.mechanisms.eye_4dof import design as dz
-from rcm_pin.report import eye_linkage, eye_paper
+from rcm_pin.report import eye_linkage
+from rcm_pin.studies import eye_paper
 
 D = dz.PAPER
 MM = 1e3

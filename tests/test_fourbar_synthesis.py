@@ -2,7 +2,7 @@
 
 Routes: the closed forms of rcm_pin.linkage; the dead-centre equations rebuilt here from
 points (law of cosines, no call into the synthesis); the Pinocchio closed loop of the
-catalogue's planar four-bar driven through a full crank turn (rcm_pin.report.eye_drive);
+catalogue's planar four-bar driven through a full crank turn (rcm_pin.studies.four_bar_turn);
 the CLI's JSON.
 """
 
@@ -31,7 +31,7 @@ from rcm_pin.linkage.fourbar import (
     transmission_range,
 )
 from rcm_pin.linkage.synthesis import LAYOUTS, real_roots, synthesize, valid_or_raise
-from rcm_pin.report.eye_drive import crank_turn
+from rcm_pin.studies.four_bar_turn import crank_turn
 
 UP, DOWN, L2, L3 = math.radians(25.0), math.radians(35.0), 0.075, 0.05  # paper 002
 

@@ -16,7 +16,6 @@ from rcm_pin.errors import (
     UnknownMechanismError,
     XacroArgumentError,
 )
-from rcm_pin.model.render import cache_key, declared_args, render_xacro
 
 
 def test_catalogue_lists_rcm_mechanisms():
@@ -119,31 +118,6 @@ def test_bad_configuration(q, message):
     mech = rcm_pin.load("rcm_bevel")
     with pytest.raises(InvalidInputError, match=message):
         rcm_pin.tool_pose(mech, np.array(q))
-
-
-def test_render_cache_key_depends_on_arguments_and_content(tmp_path):
-    spec = rcm_pin.catalog.get_entry("rcm_bevel")
-    k1 = cache_key(spec.xacro_path, {"l9": "0.2"})
-    k2 = cache_key(spec.xacro_path, {"l9": "0.3"})
-    assert k1 != k2
-    copy = tmp_path / spec.xacro
-    for source in spec.xacro_path.parent.glob("*.xacro"):
-        (tmp_path / source.name).write_text(source.read_text())
-    assert cache_key(copy, {"l9": "0.2"}) == k1
-    copy.write_text(copy.read_text() + "\n<!-- edit -->\n")
-    assert cache_key(copy, {"l9": "0.2"}) != k1
-
-
-def test_render_uses_disk_cache(tmp_path, monkeypatch):
-    import rcm_pin.model.render as render
-
-    monkeypatch.setenv("RCM_PIN_CACHE", str(tmp_path))
-    monkeypatch.setattr(render, "_memory", {})
-    spec = rcm_pin.catalog.get_entry("rcm_bevel")
-    text = render_xacro(spec.xacro_path, {"l9": 0.25})
-    cached = list((tmp_path / "urdf").glob("*.urdf"))
-    assert len(cached) == 1 and cached[0].read_text() == text
-    assert "l9" in declared_args(spec.xacro_path)
 
 
 def test_committed_urdfs_are_fresh():

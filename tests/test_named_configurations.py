@@ -26,7 +26,11 @@ def test_family_home_is_mech_home():
 
 def test_default_home_serial_is_mid_range_zero_for_unbounded():
     mech = rcm_pin.load(DATA / "mimic_tree.urdf", tool_frame="tool_link")
-    assert np.array_equal(mech.home, 0.5 * (mech.lower + mech.upper))
+    bounded = np.isfinite(mech.lower)  # the continuous joint "cont": unbounded, home 0
+    assert bounded.tolist().count(False) == 1
+    expected = np.zeros(mech.nq)
+    expected[bounded] = 0.5 * (mech.lower[bounded] + mech.upper[bounded])
+    assert np.array_equal(mech.home, expected)
     assert list(mech.configurations) == ["home"]
     lower, upper = mech.lower.copy(), mech.upper.copy()
     lower[0], upper[0], lower[1] = -np.inf, np.inf, 0.2

@@ -19,67 +19,8 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "tools"))
 import api_doc  # noqa: E402
 
-#: What user-facing text may import from: the façades, and ``ocp`` (the CasADi package
-#: the README documents as a top-level package, imported as ``from ocp import ...``).
-ALLOWED = {*api_doc.FACADES, "ocp"}
-#: Deep imports no façade fits yet (a family's closed forms, the CasADi layer's
-#: submodules, the worked studies), per file; this list only shrinks.
-KNOWN = {
-    "README.md": {"rcm_pin.mechanisms.rcm"},
-    # notebooks not yet rewritten onto the façades (issue item 5, in progress)
-    "01_rcm_kinematics.ipynb": {"rcm_pin.mechanisms.rcm", "rcm_pin.rotations"},
-    "02_singularities_workspace.ipynb": {"rcm_pin.mechanisms.rcm"},
-    "03_dynamics_control.ipynb": {"rcm_pin.control.references"},
-    "04_casadi_ocp.ipynb": {"ocp.ik", "ocp.tracking", "rcm_pin.mechanisms.rcm.inverse"},
-    "05_parallel_mechanisms.ipynb": {
-        "rcm_pin.analysis.closed_position",
-        "rcm_pin.analysis.closed_singularity",
-        "rcm_pin.analysis.loop_velocity",
-        "rcm_pin.analysis.screws",
-        "rcm_pin.analysis.workspace",
-        "rcm_pin.mechanisms",
-        "rcm_pin.mechanisms.planar_3rrr",
-        "rcm_pin.studies.five_bar_switching",
-    },
-    "06_spherical_3rrr.ipynb": {
-        "rcm_pin.mechanisms",
-        "rcm_pin.mechanisms.spherical_3rrr",
-        "rcm_pin.rotations",
-    },
-    "07_translational_3ppapa.ipynb": {
-        "rcm_pin.analysis.accuracy",
-        "rcm_pin.analysis.loop_velocity",
-        "rcm_pin.analysis.screws",
-        "rcm_pin.analysis.singularity_model",
-        "rcm_pin.analysis.workspace",
-        "rcm_pin.mechanisms",
-        "rcm_pin.mechanisms.translational_3ppapa",
-    },
-    "08_eye_linkage.ipynb": {
-        "rcm_pin.analysis.mobility",
-        "rcm_pin.linkage",
-        "rcm_pin.mechanisms.eye_4dof.checks",
-        "rcm_pin.mechanisms.eye_4dof.family",
-        "rcm_pin.report.eye_linkage",
-        "rcm_pin.report.eye_paper",
-        "rcm_pin.report.framework",
-    },
-    "09_programmable_rcm.ipynb": {
-        "ocp.rcm",
-        "ocp.rcm_tracking",
-        "rcm_pin.control.rcm_loop",
-        "rcm_pin.control.rcm_task",
-        "rcm_pin.studies.rcm_comparison",
-        "rcm_pin.studies.rcm_metrics",
-        "rcm_pin.studies.surgical_paths",
-    },
-    "10_parallel_dynamics.ipynb": {
-        "rcm_pin.dynamics.vibrations",
-        "rcm_pin.studies",
-        "rcm_pin.studies.vibration_criterion",
-        "rcm_pin.studies.working_mode",
-    },
-}
+#: What user-facing text may import from: the façades (``ocp``, the CasADi package, is one).
+ALLOWED = set(api_doc.FACADES)
 TEXTS = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
 NOTEBOOKS = sorted((ROOT / "notebooks").glob("*.ipynb"))
 
@@ -104,7 +45,8 @@ def test_no_public_name_hides_a_submodule(facade):
     import pkgutil
 
     package = importlib.import_module(facade)
-    submodules = {m.name for m in pkgutil.iter_modules(package.__path__)}
+    # a module façade (rcm_pin.rotations) has no submodules
+    submodules = {m.name for m in pkgutil.iter_modules(getattr(package, "__path__", []))}
     clashes = {
         (facade, n)
         for n in package.__all__
@@ -136,8 +78,8 @@ def _check(path: Path) -> None:
     modules = set().union(*map(_imported_modules, _python_sources(path)), set())
     ours = {m for m in modules if m.split(".")[0] in {"rcm_pin", "ocp"}}
     report = {m for m in ours if m.startswith("rcm_pin.report")}
-    assert report <= KNOWN.get(path.name, set()), f"{path.name} imports {sorted(report)}"
-    deep = ours - ALLOWED - KNOWN.get(path.name, set())
+    assert not report, f"{path.name} imports {sorted(report)}"
+    deep = ours - ALLOWED
     assert not deep, f"{path.name} imports from {sorted(deep)}: use a façade (docs/api.md)"
 
 
@@ -149,8 +91,6 @@ def test_user_facing_text_imports_only_from_the_facades(path):
 def test_from_facade_imports_name_public_names():
     """``from rcm_pin.analysis import x`` names a public function, not a submodule."""
     for path in TEXTS + NOTEBOOKS:
-        if path.suffix == ".ipynb" and path.name in KNOWN:
-            continue  # not yet rewritten (KNOWN)
         for source in _python_sources(path):
             lines = [ln for ln in source.splitlines() if not ln.lstrip().startswith(("!", "%"))]
             for node in ast.walk(ast.parse("\n".join(lines))):
@@ -158,3 +98,34 @@ def test_from_facade_imports_name_public_names():
                     public = importlib.import_module(node.module).__all__
                     wrong = [a.name for a in node.names if a.name not in public]
                     assert not wrong, f"{path.name}: {node.module} has no public {wrong}"
+
+
+@pytest.mark.parametrize("facade", ["rcm_pin.mechanisms", "rcm_pin.studies"])
+def test_module_facades_list_every_module_as_an_attribute(facade):
+    """``rcm_pin.mechanisms`` lists the families and ``rcm_pin.studies`` the studies (every
+    module of the package, none left out), and each family package's modules are its
+    attributes (``rcm.closed_form``) whether or not anything imported them before."""
+    import pkgutil
+
+    package = importlib.import_module(facade)
+    assert sorted(package.__all__) == sorted(m.name for m in pkgutil.iter_modules(package.__path__))
+    for name in package.__all__:
+        module = getattr(package, name)
+        assert isinstance(module, types.ModuleType) and module.__name__ == f"{facade}.{name}"
+        for sub in pkgutil.iter_modules(getattr(module, "__path__", [])):
+            assert getattr(module, sub.name).__name__ == f"{module.__name__}.{sub.name}"
+        with pytest.raises(AttributeError):
+            module.no_such_module  # noqa: B018
+
+
+def test_a_family_module_is_imported_on_first_access():
+    import subprocess
+
+    code = (
+        "import sys\n"
+        "from rcm_pin.mechanisms import spherical_3rrr\n"
+        "name = 'rcm_pin.mechanisms.spherical_3rrr.plots'\n"
+        "assert name not in sys.modules\n"
+        "assert spherical_3rrr.plots.__name__ == name and 'plots' in dir(spherical_3rrr)\n"
+    )
+    subprocess.run([sys.executable, "-c", code], check=True, cwd=ROOT, timeout=120)

@@ -99,7 +99,11 @@ def test_small_solve_is_numpys_and_refuses_a_singular_matrix() -> None:
 def test_pinocchio_order_maps_agree_with_the_mechanism(bevel: rcm_pin.Mechanism) -> None:
     # the copying branch (used when Pinocchio's order differs), forced on a real model
     stand_in = SimpleNamespace(
-        identity_order=False, q_index=bevel.q_index, v_index=bevel.v_index, model=bevel.model
+        identity_order=False,
+        q_index=bevel.q_index,
+        v_index=bevel.v_index,
+        model=bevel.model,
+        continuous=bevel.continuous,
     )
     q_pin, v_pin = _to_pin(stand_in)  # type: ignore[arg-type]
     q, v, _ = next(_states(bevel, 3))

@@ -40,6 +40,7 @@ from typing import Any
 
 import casadi as ca
 import numpy as np
+import pinocchio as pin
 
 from ocp.buffered import BufferedFunction
 from ocp.dynamics import cholesky_solve
@@ -54,10 +55,15 @@ OPT = "-O1"
 
 
 def _to_pin(mech: Mechanism, q: Any, v: Any) -> tuple[Any, Any]:
-    """Pinocchio's (q, v) from the Mechanism's (unlisted coordinates 0)."""
-    qp, vp = ca.SX.zeros(mech.model.nq), ca.SX.zeros(mech.model.nv)
+    """Pinocchio's (q, v) from the Mechanism's (unlisted coordinates neutral; a continuous
+    joint's θ -> cos θ, sin θ)."""
+    qp, vp = ca.SX(pin.neutral(mech.model)), ca.SX.zeros(mech.model.nv)
+    continuous = set(mech.continuous.tolist())
     for k, i in enumerate(mech.q_index):
-        qp[int(i)] = q[k]
+        if k in continuous:
+            qp[int(i)], qp[int(i) + 1] = ca.cos(q[k]), ca.sin(q[k])
+        else:
+            qp[int(i)] = q[k]
     for k, i in enumerate(mech.v_index):
         vp[int(i)] = v[k]
     return qp, vp

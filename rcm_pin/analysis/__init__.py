@@ -1,11 +1,11 @@
 """Generic algorithms on any Mechanism (serial or closed); never a mechanism's name.
 
 Position problems (:mod:`.position`, numeric routes :mod:`.closed_position`,
-:mod:`.serial_ik`), kinematics (:mod:`.kinematics`, :mod:`.jacobians`), velocity
-(:mod:`.velocity`, :mod:`.loop_velocity`), singularities (:mod:`.singularity`,
-:mod:`.closed_singularity`, :mod:`.screws`, :mod:`.maps`, :mod:`.singularity_report`),
-workspace (:mod:`.workspace`), accuracy (:mod:`.accuracy`), mobility (:mod:`.mobility`) and
-the vectorised planar Newton (:mod:`.batch_planar`).
+:mod:`.serial_ik`, the proven reach bound :mod:`.reach`), kinematics (:mod:`.kinematics`,
+:mod:`.jacobians`), velocity (:mod:`.velocity`, :mod:`.loop_velocity`), singularities
+(:mod:`.singularity`, :mod:`.closed_singularity`, :mod:`.screws`, :mod:`.maps`,
+:mod:`.singularity_report`), workspace (:mod:`.workspace`), accuracy (:mod:`.accuracy`),
+mobility (:mod:`.mobility`) and the vectorised planar Newton (:mod:`.batch_planar`).
 
 The re-exports below are the public API of the layer (``docs/api.md``), imported on first
 access: ``import rcm_pin`` loads no scipy or matplotlib.
@@ -76,6 +76,7 @@ if TYPE_CHECKING:
         forward,
         inverse,
     )
+    from rcm_pin.analysis.reach import reach_bound
     from rcm_pin.analysis.screws import (
         ScrewTest,
         screw_test,
@@ -100,6 +101,9 @@ if TYPE_CHECKING:
         DetMap,
         NumericSingularity,
         SingularityModel,
+    )
+    from rcm_pin.analysis.singularity_model import (
+        singularity_model as singularity_model_of,
     )
     from rcm_pin.analysis.velocity import (
         ToolMotion,
@@ -174,6 +178,7 @@ _LAZY = {
     "pose_singularities": "closed_singularity",
     "position_solver": "capabilities",
     "rcm_error": "kinematics",
+    "reach_bound": "reach",
     "reference_poses": "capabilities",
     "sample_joints": "workspace",
     "screw_test": "screws",
@@ -182,6 +187,7 @@ _LAZY = {
     "singularity_grid": "singularity:grid",
     "singularity_map": "maps",
     "singularity_measure": "singularity:measure",
+    "singularity_model_of": "singularity_model:singularity_model",
     "tool_jacobian": "jacobians",
     "tool_pose": "kinematics",
     "tool_poses": "kinematics",
@@ -192,7 +198,8 @@ _LAZY = {
 }
 
 # No re-export is named like a submodule (it would hide the module): ``mobility`` is
-# ``rcm_pin.mobility``; the singularity resolver is imported from its module.
+# ``rcm_pin.mobility``; the singularity resolver ``singularity_model`` is public as
+# ``singularity_model_of`` (the family's SingularityModel of a mechanism).
 __getattr__, __dir__ = lazy_exports(__name__, _LAZY)
 
 __all__ = [
@@ -244,6 +251,7 @@ __all__ = [
     "pose_singularities",
     "position_solver",
     "rcm_error",
+    "reach_bound",
     "reference_poses",
     "sample_joints",
     "screw_test",
@@ -252,6 +260,7 @@ __all__ = [
     "singularity_grid",
     "singularity_map",
     "singularity_measure",
+    "singularity_model_of",
     "tool_jacobian",
     "tool_pose",
     "tool_poses",

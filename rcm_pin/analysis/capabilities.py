@@ -9,13 +9,14 @@ closed form (e.g. an output subset its formulas do not cover).
 
 from __future__ import annotations
 
+import copy
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
 
 import numpy as np
 
 from rcm_pin.analysis import closed_position as cp
-from rcm_pin.analysis.serial_ik import numeric_branches
+from rcm_pin.analysis.serial_ik import N_STARTS, numeric_inverse
 from rcm_pin.model.configurations import mid_range
 from rcm_pin.model.family import Branch
 from rcm_pin.model.mechanism import Mechanism
@@ -77,14 +78,29 @@ class PositionSolver(ABC):
 
 class NumericPosition(PositionSolver):
     """The default: multistart bounded least squares (serial), multistart Newton on the
-    closures (closed)."""
+    closures (closed).
+
+    Attributes:
+        starts: starts of the multistart (None: :data:`~rcm_pin.analysis.serial_ik.N_STARTS`
+            serial, 96 closed); :meth:`with_starts` sets it.
+    """
+
+    starts: int | None = None
+
+    def with_starts(self, starts: int) -> NumericPosition:
+        """A copy whose numeric multistart has ``starts`` starts."""
+        new = copy.copy(self)
+        new.starts = starts
+        return new
 
     def inverse(self, mech: Mechanism, target: np.ndarray, output: Output) -> Branches:
         if mech.loops is None:
-            return Branches(
-                tuple(numeric_branches(mech, target, output)), "multistart least squares", False
-            )
-        return Branches(tuple(cp.inverse_seeds(mech, target, output)), "multistart Newton", False)
+            found = numeric_inverse(mech, target, output, self.starts or N_STARTS)
+            return Branches(tuple(found), "multistart least squares", False)
+        seeds = cp.inverse_seeds(
+            mech, target, output, **({"n_starts": self.starts} if self.starts else {})
+        )
+        return Branches(tuple(seeds), "multistart Newton", False)
 
     def direct(self, mech: Mechanism, drives: np.ndarray) -> Assemblies:
         return Assemblies(tuple(cp.multistart_seeds(mech, drives)), "multistart Newton")

@@ -20,8 +20,9 @@ import numpy as np
 import pinocchio as pin
 
 from rcm_pin.analysis import closed_position as cp
-from rcm_pin.analysis.capabilities import position_solver
+from rcm_pin.analysis.capabilities import NumericPosition, position_solver
 from rcm_pin.analysis.results import PositionResult, PositionSolution, frame_placement
+from rcm_pin.analysis.serial_ik import check_starts
 from rcm_pin.errors import InvalidInputError, SolverError, UnreachablePoseError
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import Output
@@ -100,6 +101,7 @@ def inverse(
     coords: tuple[str, ...] | None = None,
     *,
     limits: bool = False,
+    starts: int | None = None,
 ) -> PositionResult:
     """Inverse position problem: every branch / working mode for an output target.
 
@@ -111,16 +113,24 @@ def inverse(
         coords: a subset of the output coordinates to solve for (e.g. ``("x", "y", "z")``:
             the tool position only; the other coordinates are free and left at 0).
         limits: keep only the solutions inside the joint limits.
+        starts: starts of the numeric multistart, where no closed form answers (default:
+            serial :data:`~rcm_pin.analysis.serial_ik.N_STARTS`, closed 96; seeded).
 
     Raises:
         InvalidInputError: malformed target or ``coords``.
         NotARotationError: a rotation too far from SO(3).
         SingularConfigurationError: a degenerate target (the family names the cause).
-        UnreachablePoseError: no solution (or none inside the limits with ``limits``).
+        UnreachablePoseError: no solution (or none inside the limits with ``limits``);
+            from the numeric serial route only where the reach bound proves it.
+        SolutionNotFoundError: the numeric serial route found none within ``starts``
+            starts and nothing proves that none exists.
     """
     output = mech.output if coords is None else mech.output.subset(_coords(mech, coords))
     value = output.coerce(_as_value(output, target))
-    found = position_solver(mech).inverse(mech, value, output)
+    solver = position_solver(mech)
+    if starts is not None and isinstance(solver, NumericPosition):
+        solver = solver.with_starts(check_starts(starts))
+    found = solver.inverse(mech, value, output)
     branches, method = found.branches, found.method
     if mech.loops is None:
         sols = []

@@ -53,8 +53,9 @@ def sample_joints(mech: Mechanism, n: int, seed: int = 0) -> FloatArray:
     if not 1 <= n <= MAX_SAMPLES:
         raise InvalidInputError(f"sample count {n}; valid: 1..{MAX_SAMPLES}")
     rng = np.random.default_rng(seed)
-    if mech.loops is None:
-        return rng.uniform(mech.lower, mech.upper, size=(n, mech.nq))
+    if mech.loops is None:  # an unbounded (continuous) joint: one turn
+        lo = np.where(np.isfinite(mech.lower), mech.lower, -np.pi)
+        return rng.uniform(lo, np.where(np.isfinite(mech.upper), mech.upper, np.pi), (n, mech.nq))
     lo, hi = _box(mech, mech.loops.drive_q)
     return rng.uniform(lo, hi, size=(n, mech.loops.dof))
 

@@ -2,7 +2,8 @@
 
 ``urdf/<name>.urdf`` is the default rendering of every xacro entry of the catalogue, and
 ``urdf/<name>.yaml`` the LAAS-format loop sidecar of every closed one. ``rcm-pin urdf
---check`` (run in CI and by a test) fails when they differ from a fresh render.
+--check`` (run in CI and by a test) fails when they differ from a fresh render, or when
+``urdf/`` holds any other file (a stray render, say: nothing else belongs there).
 """
 
 from __future__ import annotations
@@ -29,7 +30,7 @@ def render_default(name: str, args: dict[str, str] | None = None) -> str:
         if args:
             raise XacroArgumentError(f"{name} is a plain URDF; it takes no xacro arguments")
         return entry.urdf_path.read_text()
-    return render_xacro(entry.xacro_path, {**entry.fixed_args, **(args or {})})
+    return render_xacro(entry.xacro_path, {**entry.fixed_args, **(args or {})}, trusted=True)
 
 
 def _rendered(entry: CatalogEntry) -> list[tuple[Path, str]]:
@@ -53,14 +54,21 @@ def write_rendered() -> list[Path]:
 
 
 def check_rendered() -> list[str]:
-    """Files in ``urdf/`` that differ from a fresh render (URDFs and loop sidecars)."""
+    """Files in ``urdf/`` that differ from a fresh render (URDFs and loop sidecars), are
+    missing, or are no catalogue rendering at all (listed by name, sorted)."""
     stale = []
     for entry in mechanisms():
         if entry.xacro:
             for path, text in _rendered(entry):
                 if not path.exists() or path.read_text() != text:
                     stale.append(path.name)
-    return stale
+    return sorted(stale) + stray_files()
 
 
-__all__ = ["check_rendered", "render_default", "write_rendered"]
+def stray_files() -> list[str]:
+    """Names of the files in ``urdf/`` that are no catalogue rendering (sorted)."""
+    expected = {f"{e.name}.{kind}" for e in mechanisms() if e.xacro for kind in ("urdf", "yaml")}
+    return sorted(p.name for p in urdf_dir().iterdir() if p.name not in expected)
+
+
+__all__ = ["check_rendered", "render_default", "stray_files", "write_rendered"]

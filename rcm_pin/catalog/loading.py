@@ -8,11 +8,19 @@ names.
 
 A path's tool frame comes from the ``tool_frame`` argument, else the file's ``<rcm_pin>``
 element, else its YAML sidecar (same stem, ``.yaml``); otherwise loading fails with the
-candidate frames listed, never a guess.
+candidate frames listed, never a guess. The remote centre likewise: ``rcm_frame`` (the
+frame at the point A), ``rcm_axis_frame`` and ``rcm_axis`` (the shaft line: that axis of
+that frame, default the tool frame's z; set it to the shaft for an instrument with a
+wrist), else the ``<rcm_pin>`` element's attributes of the same names.
+
+ROS packages (``$(find pkg)``, ``package://pkg/...``) are found as
+:mod:`rcm_pin.model.packages` says, first in ``package_dirs``; mesh files must lie where
+the description lives or in ``mesh_dirs`` (:mod:`rcm_pin.model.meshes`).
 """
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
@@ -20,6 +28,8 @@ from rcm_pin.catalog.table import CatalogEntry, family_named, get_entry
 from rcm_pin.errors import InvalidInputError, UnknownMechanismError, XacroArgumentError
 from rcm_pin.model.build import build_mechanism, is_path_like
 from rcm_pin.model.mechanism import Mechanism
+from rcm_pin.model.meshes import resolve_meshes
+from rcm_pin.model.packages import PackageSearch, package_search
 from rcm_pin.model.render import render_xacro, validate_args
 from rcm_pin.model.sidecar import Description, description_from_yaml, read_description
 
@@ -29,15 +39,35 @@ def load(
     *,
     tool_frame: str | None = None,
     rcm_frame: str | None = None,
+    rcm_axis_frame: str | None = None,
+    rcm_axis: str | None = None,
+    # Any, not Mapping[str, str | Path] | None: callers pass **xacro_args of str values
+    package_dirs: Any = None,
+    mesh_dirs: Iterable[str | Path] = (),
+    trusted: bool = False,
     **xacro_args: Any,
 ) -> Mechanism:
     """Load a shipped mechanism by name, or any URDF / xacro file by path.
+
+    A xacro file loaded by path is data, not code: its expressions must pass the
+    allow-list of :mod:`rcm_pin.model.xacro_safety` unless ``trusted`` (the catalogue's
+    own xacros are trusted).
 
     Args:
         name_or_path: a name from :func:`rcm_pin.names` (``rcm_bevel``, ``planar_3rrr``,
             ``panda``, ...) or a path to a ``.urdf`` / ``.xacro`` file.
         tool_frame: the tool (output) frame; required for a file that names none.
         rcm_frame: the frame of the remote centre A, for a file that names none.
+        rcm_axis_frame: the frame whose ``rcm_axis`` is the shaft line through A (default:
+            the file's, else the tool frame).
+        rcm_axis: ``x``, ``y`` or ``z`` (default: the file's, else ``z``).
+        package_dirs: a mapping ROS package name -> its folder, searched first for ``$(find pkg)``
+            and ``package://pkg/...`` (then ROS_PACKAGE_PATH, AMENT_PREFIX_PATH, the
+            folders above the file).
+        mesh_dirs: further folders mesh files may come from (beyond the file's own tree
+            and the packages).
+        trusted: the caller vouches for the xacro file at ``name_or_path``: xacro evaluates
+            its expressions unchecked (CLI: ``--trusted``).
         **xacro_args: xacro arguments (validated against the file's declarations).
 
     Returns:
@@ -47,15 +77,49 @@ def load(
         UnknownMechanismError: a bare name that is not in the catalogue (lists the names).
         InvalidInputError: a missing or malformed file.
         XacroArgumentError: unknown, malformed or out-of-range xacro argument.
-        UnknownFrameError: the tool frame is not known (lists the candidate frames).
+        UnknownFrameError: the tool, RCM or RCM axis frame is not known (lists the
+            candidate frames).
+        InvalidInputError: ``rcm_axis`` other than x, y, z, or an RCM axis without an RCM
+            point.
+        PackageNotFoundError: a ``$(find pkg)`` package found nowhere (names it and
+            ``package_dirs`` / ``--package-dir``).
+        UntrustedXacroError: an untrusted xacro file with an expression off the allow-list
+            (names the file, line and expression).
     """
+    where = _Where(dict(package_dirs or {}), tuple(mesh_dirs), bool(trusted))
+    axis = {k: v for k, v in (("rcm_axis_frame", rcm_axis_frame), ("rcm_axis", rcm_axis)) if v}
     if isinstance(name_or_path, Path):
-        return _load_path(name_or_path, tool_frame, rcm_frame, xacro_args)
+        return _load_path(name_or_path, tool_frame, rcm_frame, xacro_args, where, axis)
     if not isinstance(name_or_path, str) or not name_or_path.strip():
         get_entry(str(name_or_path))  # raises, listing the valid names
     if is_path_like(name_or_path):
-        return _load_path(Path(name_or_path), tool_frame, rcm_frame, xacro_args)
-    return _load_entry(get_entry(name_or_path), tool_frame, rcm_frame, xacro_args)
+        return _load_path(Path(name_or_path), tool_frame, rcm_frame, xacro_args, where, axis)
+    return _load_entry(get_entry(name_or_path), tool_frame, rcm_frame, xacro_args, where, axis)
+
+
+class _Where:
+    """The package and mesh folders and the trust of one load (passed on to ``rebuild``)."""
+
+    def __init__(
+        self,
+        package_dirs: dict[str, str | Path],
+        mesh_dirs: tuple[str | Path, ...],
+        trusted: bool = False,
+    ):
+        self.package_dirs, self.mesh_dirs, self.trusted = package_dirs, mesh_dirs, trusted
+
+    def search(self, near: Path) -> PackageSearch:
+        return package_search(self.package_dirs, near)
+
+    def meshes(self, urdf: str, source: Path | None, search: PackageSearch) -> str:
+        return resolve_meshes(urdf, source=source, search=search, mesh_dirs=self.mesh_dirs)
+
+    def keywords(self) -> dict[str, Any]:
+        return {
+            "package_dirs": self.package_dirs,
+            "mesh_dirs": self.mesh_dirs,
+            "trusted": self.trusted,
+        }
 
 
 def from_urdf(
@@ -64,14 +128,18 @@ def from_urdf(
     *,
     tool_frame: str | None = None,
     rcm_frame: str | None = None,
+    rcm_axis_frame: str | None = None,
+    rcm_axis: str | None = None,
 ) -> Mechanism:
-    """A Mechanism from URDF text (its ``<rcm_pin>`` element names family and frames).
+    """A Mechanism from URDF text (its ``<rcm_pin>`` element names family and frames; the
+    keywords as in :func:`load`).
 
     Raises:
-        InvalidInputError: malformed URDF.
+        InvalidInputError: malformed URDF, a bad ``rcm_axis``.
         UnknownFrameError: the tool frame is not known (lists the candidate frames).
     """
     desc = read_description(urdf)
+    urdf = resolve_meshes(urdf, source=None, search=PackageSearch())
     return build_mechanism(
         urdf,
         name=name,
@@ -79,19 +147,28 @@ def from_urdf(
         family=family_named(desc.family),
         tool_frame=tool_frame,
         rcm_frame=rcm_frame,
+        rcm_axis_frame=rcm_axis_frame,
+        rcm_axis=rcm_axis,
     )
 
 
 def _load_entry(
-    entry: CatalogEntry, tool_frame: str | None, rcm_frame: str | None, xacro_args: dict[str, Any]
+    entry: CatalogEntry,
+    tool_frame: str | None,
+    rcm_frame: str | None,
+    xacro_args: dict[str, Any],
+    where: _Where,
+    axis: dict[str, Any] | None = None,
 ) -> Mechanism:
+    axis = axis or {}
     if not entry.xacro:
         if xacro_args:
             raise XacroArgumentError(
                 f"{entry.name} is a plain URDF ({entry.urdf_path.name}); it takes no xacro "
                 f"arguments, got {', '.join(sorted(xacro_args))}"
             )
-        urdf = _read(entry.urdf_path)
+        search = where.search(entry.urdf_path)
+        urdf = where.meshes(_read(entry.urdf_path), entry.urdf_path, search)
         desc = Description(tool_frame=entry.tool_frame)
         return build_mechanism(
             urdf,
@@ -100,6 +177,7 @@ def _load_entry(
             family=entry.family,
             tool_frame=tool_frame,
             rcm_frame=rcm_frame,
+            **axis,
         )
     for key in entry.fixed_args:
         if key in xacro_args:
@@ -108,11 +186,19 @@ def _load_entry(
                 f"({key}={entry.fixed_args[key]}); load {entry.xacro} variants by path instead"
             )
     args = validate_args(entry.xacro_path, {**entry.fixed_args, **xacro_args})
-    urdf = render_xacro(entry.xacro_path, args)
+    search = where.search(entry.xacro_path)
+    urdf = render_xacro(entry.xacro_path, args, search=search, trusted=True)  # our own file
+    urdf = where.meshes(urdf, entry.xacro_path, search)
 
     def rebuild(**more: Any) -> Mechanism:
+        merged = {**xacro_args, **more}
         return load(
-            entry.name, tool_frame=tool_frame, rcm_frame=rcm_frame, **{**xacro_args, **more}
+            entry.name,
+            tool_frame=tool_frame,
+            rcm_frame=rcm_frame,
+            **axis,
+            **where.keywords(),
+            **merged,
         )
 
     return build_mechanism(
@@ -125,6 +211,7 @@ def _load_entry(
         rcm_frame=rcm_frame,
         rebuild=rebuild,
         source=entry.xacro_path,
+        **axis,
     )
 
 
@@ -139,16 +226,23 @@ def _read(path: Path) -> str:
 
 
 def _load_path(
-    path: Path, tool_frame: str | None, rcm_frame: str | None, xacro_args: dict[str, Any]
+    path: Path,
+    tool_frame: str | None,
+    rcm_frame: str | None,
+    xacro_args: dict[str, Any],
+    where: _Where,
+    axis: dict[str, Any] | None = None,
 ) -> Mechanism:
+    axis = axis or {}
     if path.suffix not in (".urdf", ".xacro"):
         raise UnknownMechanismError(
             f"{str(path)!r} is neither a catalogue name nor a .urdf / .xacro file; valid: "
             "a name from `rcm-pin list` or a path ending in .urdf or .xacro"
         )
+    search = where.search(path)
     if path.suffix == ".xacro":
         _read(path)
-        urdf = render_xacro(path, xacro_args)
+        urdf = render_xacro(path, xacro_args, search=search, trusted=where.trusted)
         args = dict(validate_args(path, xacro_args))
     else:
         if xacro_args:
@@ -173,8 +267,18 @@ def _load_path(
             loops=side.loops,
         )
 
+    urdf = where.meshes(urdf, path, search)
+
     def rebuild(**more: Any) -> Mechanism:
-        return load(path, tool_frame=tool_frame, rcm_frame=rcm_frame, **{**xacro_args, **more})
+        merged = {**xacro_args, **more}
+        return load(
+            path,
+            tool_frame=tool_frame,
+            rcm_frame=rcm_frame,
+            **axis,
+            **where.keywords(),
+            **merged,
+        )
 
     return build_mechanism(
         urdf,
@@ -186,6 +290,7 @@ def _load_path(
         rcm_frame=rcm_frame,
         rebuild=rebuild if path.suffix == ".xacro" else None,
         source=path if path.suffix == ".xacro" else None,
+        **axis,
     )
 
 

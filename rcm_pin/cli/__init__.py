@@ -18,6 +18,7 @@ import json
 import re
 import sys
 import types
+import warnings
 from collections.abc import Sequence
 
 from rcm_pin.cli import (
@@ -103,8 +104,25 @@ def _report(as_json: bool, kind: str, message: str, result: object = None) -> No
         print(f"rcm-pin: error: {kind}: {message}", file=sys.stderr)
 
 
+def _format_warning(
+    message: Warning | str,
+    category: type[Warning],
+    filename: str,
+    lineno: int,
+    line: str | None = None,
+) -> str:
+    """rcm-pin's own warnings as one line ``rcm-pin: warning: ...`` (others as Python has them)."""
+    if category.__module__.startswith("rcm_pin."):
+        return f"rcm-pin: warning: {message}\n"
+    return _python_format(message, category, filename, lineno, line)
+
+
+_python_format = warnings.formatwarning
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``rcm-pin`` console script (exit statuses: module docstring)."""
+    warnings.formatwarning = _format_warning
     tokens = join_negative_values(sys.argv[1:] if argv is None else argv)
     try:
         args = build_parser().parse_args(tokens)

@@ -13,6 +13,7 @@ from typing import Any
 import numpy as np
 
 from rcm_pin.catalog import load
+from rcm_pin.cli._folders import add_folder_options, folders_from_args
 from rcm_pin.errors import InvalidInputError, NotARotationError, XacroArgumentError
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import POSE
@@ -212,14 +213,21 @@ def exclusive(args: argparse.Namespace, *options: str) -> None:
 
 
 def load_mechanism(args: argparse.Namespace) -> Mechanism:
-    """The mechanism named on the command line, with its ``--arg`` xacro arguments and, for
-    a path, ``--tool-frame`` / ``--rcm-frame``."""
-    frames = {"tool_frame": args.tool_frame, "rcm_frame": args.rcm_frame}
-    return load(args.name, **{k: v for k, v in frames.items() if v}, **parse_xacro_args(args.arg))
+    """The mechanism named on the command line, with its ``--arg`` xacro arguments,
+    ``--package-dir`` / ``--mesh-dir`` folders, ``--trusted`` and ``--tool-frame`` /
+    ``--rcm-frame`` / ``--rcm-axis-frame`` / ``--rcm-axis`` (the keywords of
+    :func:`rcm_pin.load`)."""
+    keys = ("tool_frame", "rcm_frame", "rcm_axis_frame", "rcm_axis")
+    frames = {k: getattr(args, k, None) for k in keys}
+    folders = folders_from_args(args)
+    kwargs = {k: v for k, v in frames.items() if v}
+    trusted = bool(getattr(args, "trusted", False))
+    return load(args.name, **kwargs, **folders, trusted=trusted, **parse_xacro_args(args.arg))
 
 
 def add_common(parser: argparse.ArgumentParser, mechanism: bool = True) -> None:
-    """Add ``NAME``, ``--arg`` and ``--json`` to a subcommand parser."""
+    """Add ``NAME``, ``--arg``, the frame options of :func:`load_mechanism` and ``--json``
+    to a subcommand parser."""
     if mechanism:
         parser.add_argument(
             "name", metavar="NAME", help="mechanism name (rcm-pin list) or a .urdf/.xacro path"
@@ -232,6 +240,22 @@ def add_common(parser: argparse.ArgumentParser, mechanism: bool = True) -> None:
         )
         parser.add_argument(
             "--rcm-frame", metavar="FRAME", help="a path's remote-centre frame (optional)"
+        )
+        parser.add_argument(
+            "--rcm-axis-frame",
+            metavar="FRAME",
+            help="frame whose --rcm-axis is the shaft line through the RCM (default: the "
+            "file's, else the tool frame)",
+        )
+        parser.add_argument(
+            "--rcm-axis", metavar="AXIS", help="x, y or z: the shaft axis of --rcm-axis-frame (z)"
+        )
+        add_folder_options(parser)
+        parser.add_argument(
+            "--trusted",
+            action="store_true",
+            help="a .xacro path you vouch for: evaluate its expressions unchecked (default: "
+            "only the allow-list of SECURITY.md; a xacro file is code)",
         )
     parser.add_argument("--json", action="store_true", help="print one JSON document")
 

@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 
 from rcm_pin.catalog import mechanisms
-from rcm_pin.catalog.files import check_rendered, render_default, write_rendered
+from rcm_pin.catalog.files import check_rendered, render_default, stray_files, write_rendered
 from rcm_pin.cli._common import add_common, emit, output_path, parse_xacro_args
 from rcm_pin.errors import XacroArgumentError
 
@@ -46,11 +46,15 @@ def cmd_urdf(args: argparse.Namespace) -> int:
             written = write_rendered()
             emit(args, {"written": [str(p) for p in written]}, "\n".join(map(str, written)))
             return 0
-        stale = check_rendered()
+        stale, strays = check_rendered(), stray_files()
         emit(
             args,
-            {"stale": stale},
-            "urdf/ is up to date" if not stale else "stale: " + ", ".join(stale),
+            {"stale": stale, "strays": strays},
+            "urdf/ is up to date"
+            if not stale
+            else "stale: "
+            + ", ".join(stale)
+            + "".join(f"\n{name}: not a catalogue rendering (remove it)" for name in strays),
         )
         return 1 if stale else 0
     if not args.name:

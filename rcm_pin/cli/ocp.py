@@ -19,7 +19,13 @@ import argparse
 
 import numpy as np
 
-from rcm_pin.cli._common import add_common, emit, parse_matrix, parse_vector, parse_xacro_args
+from rcm_pin.cli._common import (
+    add_common,
+    emit,
+    load_mechanism,
+    parse_matrix,
+    parse_vector,
+)
 from rcm_pin.errors import InvalidInputError
 
 
@@ -70,13 +76,12 @@ def cmd_ik(args: argparse.Namespace) -> int:
     from ocp.commands import format_ik, ik_command
 
     payload = ik_command(
-        args.name,
+        load_mechanism(args),  # the frame options of a path too
         None if args.xyz is None else parse_vector(args.xyz, "xyz", 3),
         rpy=None if args.rpy is None else parse_vector(args.rpy, "rpy", 3),
         pose=_pose(args.pose),
         q0=None if args.q0 is None else parse_vector(args.q0, "q0"),
         solver=args.solver,
-        xacro_args=parse_xacro_args(args.arg),
     )
     emit(args, payload, format_ik(payload))
     return 0

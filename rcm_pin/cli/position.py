@@ -59,6 +59,14 @@ def register(sub: argparse._SubParsersAction) -> None:
         "1e-2, then projected onto SO(3))",
     )
     p.add_argument("--within-limits", action="store_true", help="only solutions inside limits")
+    p.add_argument(
+        "--starts",
+        type=int,
+        metavar="N",
+        help="starts of the numeric multistart where no closed form answers (serial: 16, "
+        "closed: 96; seeded); none found: exit 3 unless the reach bound proves the target "
+        "unreachable",
+    )
     p.set_defaults(func=cmd_ik)
 
 
@@ -105,7 +113,7 @@ def cmd_ik(args: argparse.Namespace) -> int:
     """``rcm-pin ik``."""
     mech = load_mechanism(args)
     value, coords = target_from_args(mech, args)
-    result = inverse(mech, value, coords, limits=args.within_limits)
+    result = inverse(mech, value, coords, limits=args.within_limits, starts=args.starts)
     payload = with_rotations(result.to_json())
     payload["position_only"] = coords == ("x", "y", "z")
     if "rotation" in coords:  # distance of the given R from SO(3) (it was projected)

@@ -4,10 +4,15 @@ For an arm (panda, ur5) the tool shaft (z axis of its tool frame, extended by
 :data:`rcm_pin.studies.rcm_comparison.TOOL_LENGTH`) is kept through the trocar by the
 programmable RCM (one QP per control step at ``--rate``); the default trocar is the one
 chosen by reachability and manipulability (:func:`rcm_pin.studies.rcm_comparison.choose_trocar`).
-For a mechanism with a mechanical RCM (rcm_bevel, ...) the trocar is its remote centre and
-each sample is solved by its analytic inverse kinematics. ``rcm_error_max`` is the largest
-distance of the trocar from the shaft line over the returned samples, recomputed from
-``q`` by Pinocchio forward kinematics; ``tip_error_max`` the largest tip tracking error.
+For a mechanism with a mechanical RCM (rcm_bevel, ..., or a file loaded with
+``--rcm-frame``) the trocar is its remote centre, the shaft the ``--rcm-axis`` of
+``--rcm-axis-frame`` (default: the tool frame's z) and each sample is solved by its
+analytic inverse kinematics, else by least squares from the previous sample. ``NAME`` is a
+catalogue name or a .urdf / .xacro path (never looked up by its stem), loaded with
+``--tool-frame`` (the arm's shaft frame) and the other frame options of every command.
+``rcm_error_max`` is the largest distance of the trocar from the shaft line over the
+returned samples, recomputed from ``q`` by Pinocchio forward kinematics; ``tip_error_max``
+the largest tip tracking error.
 """
 
 from __future__ import annotations
@@ -17,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from rcm_pin.cli._common import emit, parse_vector
+from rcm_pin.cli._common import add_common, emit, load_mechanism, parse_vector
 from rcm_pin.studies.surgical_paths import DURATIONS, PATHS
 
 
@@ -26,17 +31,15 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "rcm-track", help="tool tip along a surgical path with the shaft through a trocar"
     )
-    p.add_argument("name", metavar="NAME", help="a serial arm or an RCM mechanism (rcm-pin list)")
+    add_common(p)  # NAME (a name or a path), --arg, --tool-frame (arms: the shaft), --rcm-*
     p.add_argument("--path", required=True, choices=PATHS, help="tip path inside the cone")
     p.add_argument("--trocar", help="arms: trocar point x,y,z [m] (default: chosen)")
-    p.add_argument("--tool-frame", metavar="FRAME", help="arms: frame of the shaft (tool frame)")
     p.add_argument("--tool-axis", default="z", choices=("x", "y", "z"), help="shaft axis (z)")
     p.add_argument("--rate", type=float, default=1000.0, help="control rate [Hz] (1000)")
     p.add_argument(
         "--duration", type=float, help="stop after this time [s] (default: the whole path)"
     )
     p.add_argument("--method", default="qp", choices=("qp", "pink"), help="arms' QP route")
-    p.add_argument("--json", action="store_true", help="print one JSON document")
     p.set_defaults(func=cmd_rcm_track)
 
 
@@ -70,7 +73,7 @@ def cmd_rcm_track(args: argparse.Namespace) -> int:
     from rcm_pin.studies.rcm_comparison import make_setup, run
 
     trocar = None if args.trocar is None else parse_vector(args.trocar, "trocar", 3)
-    setup = make_setup(args.name, trocar, frame=args.tool_frame, axis=args.tool_axis)
+    setup = make_setup(load_mechanism(args), trocar, axis=args.tool_axis)
     track = run(setup, args.path, rate=args.rate, duration=args.duration, method=args.method)
     doc = payload(track)
     text = (

@@ -9,7 +9,12 @@ and says when ``--assembly`` has no meaning.
 from __future__ import annotations
 
 import argparse
+import contextlib
+import signal
+import sys
 import time
+import warnings
+from collections.abc import Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -56,6 +61,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--html", type=Path, help="write a self-contained static HTML page")
     p.add_argument("--png", type=Path, help="write a PNG (headless Chromium, else matplotlib)")
     p.add_argument(
+        "--host",
+        default="127.0.0.1",
+        help="live mode: the address the viewer listens on (default 127.0.0.1, this machine "
+        "only; e.g. 0.0.0.0 opens it to the network)",
+    )
+    p.add_argument(
         "--seconds",
         type=float,
         default=None,
@@ -77,13 +88,40 @@ def _load_traj(path: Path, n: int) -> np.ndarray:
     return arr
 
 
+@contextlib.contextmanager
+def _mesh_warnings() -> Iterator[list[str]]:
+    """Meshes that cannot be drawn, each one line ``rcm-pin: warning: ...`` on stderr and
+    kept in the yielded list (the JSON ``warnings``)."""
+    from rcm_pin.model.meshes import MissingMeshWarning
+
+    kept: list[str] = []
+    shown = warnings.showwarning
+
+    def show(message: Warning | str, category: type[Warning], *rest: Any, **kw: Any) -> None:
+        if not issubclass(category, MissingMeshWarning):
+            return shown(message, category, *rest, **kw)
+        kept.append(str(message))
+        print(f"rcm-pin: warning: {message}", file=sys.stderr)
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("always", MissingMeshWarning)
+        warnings.showwarning = show
+        yield kept
+
+
 def cmd_view(args: argparse.Namespace) -> int:
     """Show the inputs' configuration; write ``--html`` / ``--png`` or serve it live.
 
     JSON keys: ``mechanism``, ``input_names``, ``q`` (inputs), ``q_full`` (coordinates),
     ``coordinates``, ``joint_names``, ``assembly`` (label), ``closure_gap`` [m], ``html``,
-    ``png``, ``png_method`` (with ``--png``), ``url`` (live).
+    ``png``, ``png_method`` (with ``--png``), ``url`` (live), ``warnings`` (meshes not
+    drawn, each naming the file; also printed on stderr).
     """
+    with _mesh_warnings() as kept:
+        return _view(args, kept)
+
+
+def _view(args: argparse.Namespace, kept: list[str]) -> int:
     from rcm_pin.viz.snapshot import snapshot
     from rcm_pin.viz.viewer import Viewer
 
@@ -95,7 +133,10 @@ def cmd_view(args: argparse.Namespace) -> int:
     inputs = parse_vector(args.q, "q", n_inputs) if args.q is not None else None
     traj = _load_traj(args.traj, n_inputs) if args.traj is not None else None
     live = args.html is None and args.png is None
-    with Viewer(mech, server=live, snapshot_style=not live) as viewer:
+    with (
+        _stopped_by_sigterm(),
+        Viewer(mech, server=live, snapshot_style=not live, host=args.host) as viewer,
+    ):
         if inputs is not None or args.assembly != 0:
             viewer.display_inputs(viewer.inputs if inputs is None else inputs, args.assembly)
         viewer.fit_camera()
@@ -111,6 +152,7 @@ def cmd_view(args: argparse.Namespace) -> int:
             "closure_gap": viewer.closure_gap(),
             "html": None,
             "png": None,
+            "warnings": kept,
         }
         if traj is not None:
             viewer.animate(viewer.input_path(traj), args.dt, repetitions=1000 if live else 1)
@@ -126,6 +168,25 @@ def cmd_view(args: argparse.Namespace) -> int:
     lines += [f"wrote {payload[k]}" for k in ("html", "png") if payload[k]]
     emit(args, payload, "\n".join(lines))
     return 0
+
+
+@contextlib.contextmanager
+def _stopped_by_sigterm() -> Iterator[None]:
+    """SIGTERM ends the command through SystemExit (status 143), so that the viewer's
+    server is stopped on the way out (SIGINT already does, through KeyboardInterrupt)."""
+
+    def stop(signum: int, frame: object) -> None:
+        raise SystemExit(128 + signum)
+
+    try:
+        previous = signal.signal(signal.SIGTERM, stop)
+    except ValueError:  # not the main thread: leave the handler alone
+        yield
+        return
+    try:
+        yield
+    finally:
+        signal.signal(signal.SIGTERM, previous)
 
 
 def _serve(seconds: float | None) -> None:

@@ -62,6 +62,8 @@ def _to_pin(mech: Mechanism) -> tuple[Callable[[np.ndarray], np.ndarray], ...]:
     """(q -> Pinocchio q, v -> Pinocchio v) without validation (no copy when the orders agree)."""
     if mech.identity_order and np.array_equal(mech.v_index, np.arange(mech.model.nv)):
         return (lambda q: q), (lambda v: v)
+    if mech.continuous.size:  # θ -> (cos θ, sin θ)
+        return mech.to_pin, mech.v_pin
     qi, vi, nq, nv = mech.q_index, mech.v_index, mech.model.nq, mech.model.nv
 
     def q_pin(q: np.ndarray) -> np.ndarray:

@@ -86,8 +86,8 @@ def chain_model(
     full = make_tool(mech.model, frame, axis, tip_offset=tip_offset, trocar=trocar)
     if mech.loops is not None or mech.model.nq != mech.nq or mech.nq != mech.nv:
         raise InvalidInputError(
-            f"{mech.name}: the programmable RCM needs a serial arm without mimic joints; "
-            "valid: a serial arm of the catalogue (mechanical RCMs use their analytic IK)"
+            f"{mech.name}: the programmable RCM needs a serial arm without mimic or continuous "
+            "joints; valid: a serial arm of the catalogue (mechanical RCMs use their analytic IK)"
         )
     support = set(mech.model.supports[mech.model.frames[full.axis_frame].parentJoint])
     locked = [j for j in range(1, mech.model.njoints) if j not in support]

@@ -45,6 +45,7 @@ from rcm_pin.control.computed_torque import ComputedTorque
 from rcm_pin.control.hot_path import SerialPlant, free_samples
 from rcm_pin.control.result import SimulationResult
 from rcm_pin.control.simulation_options import SimulationOptions
+from rcm_pin.dynamics.inertia import require_inertia
 from rcm_pin.errors import InvalidInputError, JointLimitError
 from rcm_pin.model.mechanism import Mechanism
 
@@ -108,7 +109,8 @@ def simulate(
             backend).
 
     Raises:
-        InvalidInputError: duration ≤ 0, bad q0 / v0, no q0 and no way to find one, or
+        InvalidInputError: duration ≤ 0, bad q0 / v0, no q0 and no way to find one, a
+            plant whose motions carry no inertia (:mod:`rcm_pin.dynamics.inertia`), or
             ``"compiled"`` where it is not available (an unknown backend is refused by
             :class:`SimulationOptions`).
         JointLimitError: the run starts or gets outside the joint limits (module
@@ -124,6 +126,7 @@ def simulate(
             raise InvalidInputError("q0 is required without a controller")
         q0 = initial_state(plant, controller)
     q0 = plant.check_q(q0, "q0")
+    require_inertia(plant, q0)
     bounds = [] if o.allow_outside_limits else _limit_events(plant, q0)
     v0 = np.zeros(nv) if v0 is None else plant.check_v(v0, "v0")
     accel = _plant_accel(plant, o.baumgarte)

@@ -1,6 +1,8 @@
 """The model layer: one :class:`Mechanism` for serial and closed mechanisms.
 
-xacro rendering with its cache (:mod:`.render`), the shipped sources (:mod:`.resources`),
+xacro rendering (:mod:`.render`) with its verified cache (:mod:`.render_cache`), ROS
+packages without ROS (:mod:`.packages`) and mesh files (:mod:`.meshes`), the shipped
+sources (:mod:`.resources`),
 the mimic coupling (:mod:`.coupling`), output coordinates (:mod:`.output`), the
 ``<rcm_pin>`` element and YAML sidecar (:mod:`.sidecar`), loop closures (:mod:`.loops`)
 and their rank-revealing Newton (:mod:`.newton`), family hooks (:mod:`.family`) and the

@@ -13,14 +13,14 @@ from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
-import numpy as np
 import pinocchio as pin
 
 from rcm_pin.errors import InvalidInputError, UnknownFrameError
+from rcm_pin.model import joints as jt
 from rcm_pin.model.coupling import coupling_from_urdf
 from rcm_pin.model.family import Family
-from rcm_pin.model.indices import frame_index, joint_index
-from rcm_pin.model.loops import REVOLUTE, build_loops
+from rcm_pin.model.indices import frame_index
+from rcm_pin.model.loops import build_loops
 from rcm_pin.model.mechanism import Mechanism, RcmSpec
 from rcm_pin.model.output import POSE, Output
 from rcm_pin.model.sidecar import Description
@@ -29,16 +29,20 @@ _AXES = {"x": 0, "y": 1, "z": 2}
 
 
 def parse_models(urdf: str, name: str) -> tuple[pin.Model, pin.Model]:
-    """The mimic and no-mimic Pinocchio models of URDF text.
+    """The mimic and no-mimic Pinocchio models of URDF text (continuous joints of mimic
+    pairs parsed as unbounded revolute, :func:`rcm_pin.model.joints.revolute_mimics`).
 
     Raises:
-        InvalidInputError: Pinocchio (urdfdom) cannot build a model from the text.
+        InvalidInputError: not a URDF robot, or Pinocchio (urdfdom) cannot build a model.
     """
+    text, unbounded = jt.revolute_mimics(urdf, name)
     try:
-        model = pin.buildModelFromXML(urdf, mimic=True)
-        model_full = pin.buildModelFromXML(urdf)
+        model = pin.buildModelFromXML(text, mimic=True)
+        model_full = pin.buildModelFromXML(text)
     except (RuntimeError, ValueError) as exc:
-        raise InvalidInputError(f"{name}: Pinocchio cannot parse the URDF: {exc}") from None
+        raise InvalidInputError(jt.parse_failure(text, name, exc)) from None
+    jt.unbound(model, unbounded)
+    jt.unbound(model_full, unbounded)
     return model, model_full
 
 
@@ -47,28 +51,6 @@ def candidate_tool_frames(model: pin.Model) -> list[str]:
     kinds = (pin.FrameType.BODY, pin.FrameType.OP_FRAME)
     names = [f.name for f in model.frames if f.type in kinds and f.name != "universe"]
     return sorted(set(names), key=names.index)
-
-
-def _coordinates(
-    model: pin.Model, joints: tuple[str, ...]
-) -> tuple[list[str], np.ndarray, np.ndarray]:
-    """Joint of each coordinate with its q and v index (papers' order when given)."""
-    independent = [j for j in range(1, model.njoints) if model.joints[j].nq > 0]
-    if joints:
-        ids = [joint_index(model, j, "coordinate joint") for j in joints]
-        return (
-            list(joints),
-            np.array([model.joints[j].idx_q for j in ids]),
-            np.array([model.joints[j].idx_v for j in ids]),
-        )
-    if all(model.joints[j].nq == 1 and model.joints[j].nv == 1 for j in independent):
-        return (
-            [model.names[j] for j in independent],
-            np.array([model.joints[j].idx_q for j in independent], dtype=int),
-            np.array([model.joints[j].idx_v for j in independent], dtype=int),
-        )
-    names = [model.names[j] for j in independent for _ in range(model.joints[j].nq)]
-    return names, np.arange(model.nq), np.arange(model.nv)
 
 
 def build_mechanism(
@@ -82,6 +64,8 @@ def build_mechanism(
     rcm_frame: str | None = None,
     rebuild: Callable[..., Mechanism] | None = None,
     source: Path | None = None,
+    rcm_axis_frame: str | None = None,
+    rcm_axis: str | None = None,
 ) -> Mechanism:
     """A :class:`Mechanism` from URDF text and its description.
 
@@ -93,19 +77,24 @@ def build_mechanism(
         args: xacro arguments it was rendered with.
         tool_frame: tool frame; overrides the description.
         rcm_frame: frame of the remote centre; overrides the description.
+        rcm_axis_frame: frame whose ``rcm_axis`` is the shaft (insertion) line; overrides
+            the description (default there: the tool frame).
+        rcm_axis: ``x``, ``y`` or ``z``; overrides the description (default ``z``).
         rebuild: renders the same source with other arguments (for design sensitivities).
         source: the xacro file rendered.
 
     Raises:
         UnknownFrameError: no tool frame known (lists the candidates), or a named frame or
             joint the model does not have.
-        InvalidInputError: malformed URDF or loop description.
+        InvalidInputError: malformed URDF or loop description, an ``rcm_axis`` other than
+            x, y, z, or an RCM axis without an RCM point.
     """
     model, model_full = parse_models(urdf, name)
     model.name = model_full.name = name  # messages name the mechanism, not the URDF robot
     coupling = coupling_from_urdf(urdf, model, model_full)
     loops = build_loops(model, description.loops) if description.loops is not None else None
-    joints, q_index, v_index = _coordinates(model, description.coordinates if loops is None else ())
+    named = description.coordinates if loops is None else ()
+    coords = jt.coordinates(model, named, closed=loops is not None)
     if loops is not None:
         output = loops.output
         if tool_frame and tool_frame != output.frame:
@@ -119,17 +108,7 @@ def build_mechanism(
                 + ", ".join(candidate_tool_frames(model))
             )
         output = Output(tool, POSE, frame_index(model, tool, "tool frame"))
-    rcm = _rcm(model, description, rcm_frame, output)
-    revolute = np.zeros(len(q_index), dtype=bool)
-    if len(q_index) == len(v_index):
-        shortnames = {
-            model.joints[j].idx_q: model.joints[j].shortname()
-            for j in range(1, model.njoints)
-            if model.joints[j].nq == 1
-        }
-        revolute = np.array([shortnames.get(int(i), "") in REVOLUTE for i in q_index], dtype=bool)
-    lower = np.asarray(model.lowerPositionLimit)[q_index].copy()
-    upper = np.asarray(model.upperPositionLimit)[q_index].copy()
+    rcm = _rcm(model, description, rcm_frame, output, rcm_axis_frame, rcm_axis)
     return Mechanism(
         name=name,
         urdf=urdf,
@@ -137,13 +116,14 @@ def build_mechanism(
         model=model,
         model_full=model_full,
         coupling=coupling,
-        coordinate_names=tuple(f"q{i + 1}" for i in range(len(q_index))),
-        joint_names=tuple(joints),
-        q_index=np.asarray(q_index, dtype=int),
-        v_index=np.asarray(v_index, dtype=int),
-        lower=lower,
-        upper=upper,
-        revolute=revolute,
+        coordinate_names=tuple(f"q{i + 1}" for i in range(len(coords.q_index))),
+        joint_names=coords.joints,
+        q_index=coords.q_index,
+        v_index=coords.v_index,
+        lower=coords.lower,
+        upper=coords.upper,
+        revolute=coords.revolute,
+        continuous=coords.continuous,
         output=output,
         family=family or Family(),
         loops=loops,
@@ -154,18 +134,37 @@ def build_mechanism(
 
 
 def _rcm(
-    model: pin.Model, desc: Description, rcm_frame: str | None, output: Output
+    model: pin.Model,
+    desc: Description,
+    rcm_frame: str | None,
+    output: Output,
+    rcm_axis_frame: str | None = None,
+    rcm_axis: str | None = None,
 ) -> RcmSpec | None:
+    """The RCM point and shaft line: the arguments, else the description; the shaft is the
+    ``rcm_axis`` (default z) of ``rcm_axis_frame`` (default the tool frame)."""
     point = rcm_frame or desc.rcm_frame
+    axis = rcm_axis or desc.rcm_axis
+    if axis not in _AXES:
+        raise InvalidInputError(
+            f"rcm_axis {axis!r} is not an axis; valid: x, y or z (the shaft axis of the RCM "
+            "axis frame)"
+        )
     if not point:
+        if rcm_axis_frame or rcm_axis:
+            given = "rcm_axis_frame" if rcm_axis_frame else "rcm_axis"
+            raise InvalidInputError(
+                f"{model.name}: {given} is given but no RCM point (no rcm_frame argument, no "
+                "<rcm_pin rcm_frame=...> element); valid: also rcm_frame=the frame at the "
+                "remote centre, one of " + ", ".join(candidate_tool_frames(model))
+            )
         return None
-    if desc.rcm_axis not in _AXES:
-        raise InvalidInputError(f"rcm_axis {desc.rcm_axis!r}; valid: x, y, z")
-    axis_frame = desc.rcm_axis_frame or output.frame
+    point_id = frame_index(model, point, "RCM frame")
+    axis_frame = rcm_axis_frame or desc.rcm_axis_frame or output.frame
     return RcmSpec(
-        point_frame_id=frame_index(model, point, "RCM frame"),
+        point_frame_id=point_id,
         axis_frame_id=frame_index(model, axis_frame, "RCM axis frame"),
-        axis=_AXES[desc.rcm_axis],
+        axis=_AXES[axis],
     )
 
 

@@ -55,7 +55,9 @@ def plane_normal(model: pin.Model) -> np.ndarray | None:
         jm = model.joints[j]
         if jm.nv != 1:
             return None
-        col = np.asarray(pin.getJointJacobian(model, data, j, pin.WORLD))[:, jm.idx_v]
+        # reshape: a one-column Jacobian (a model with nv = 1) comes back 1-D
+        jac = np.asarray(pin.getJointJacobian(model, data, j, pin.WORLD)).reshape(6, model.nv)
+        col = jac[:, jm.idx_v]
         if np.linalg.norm(col[3:]) > 1e-12:
             axes.append(col[3:])  # revolute: its axis
         else:

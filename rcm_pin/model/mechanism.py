@@ -32,6 +32,7 @@ import pinocchio as pin
 
 from rcm_pin.errors import InvalidInputError
 from rcm_pin.model import configurations
+from rcm_pin.model import joints as jt
 from rcm_pin.model import loops as lp
 from rcm_pin.model.coupling import Coupling
 from rcm_pin.model.describe import describe
@@ -79,18 +80,19 @@ class Mechanism:
         model_full: the same URDF parsed without mimic (every joint independent).
         coupling: q_full = G·q_pin + offset.
         coordinate_names: ``("q1", ..., "qn")``.
-        joint_names: URDF joint of each coordinate (multi-DOF models: one per q entry).
-        q_index: Pinocchio q index of each coordinate.
+        joint_names: URDF joint of each coordinate (``docs/joints.md``).
+        q_index: Pinocchio q index of each coordinate (a continuous joint's cos entry).
         v_index: Pinocchio v index of each velocity coordinate.
-        lower: lower limits in coordinate order [rad or m].
-        upper: upper limits in coordinate order [rad or m].
-        revolute: (n,) bool, the coordinates that are revolute angles [rad].
+        lower: lower limits in coordinate order [rad or m] (−inf: unbounded).
+        upper: upper limits in coordinate order [rad or m] (inf: unbounded).
+        revolute: (n,) bool, the coordinates that are angles [rad] (continuous included).
         output: the tool (serial) or output (closed) frame and its coordinates.
         family: the family whose hooks generic code calls.
         loops: closures and drives (None for a serial mechanism).
         rcm: the remote centre and its axis (None without one).
         rebuild: renders the same source with other xacro arguments (None for plain URDF).
         source: the xacro file it was rendered from (None for plain URDF).
+        continuous: coordinates that are continuous joints' θ (cos θ, sin θ in Pinocchio q).
     """
 
     name: str
@@ -112,11 +114,11 @@ class Mechanism:
     rcm: RcmSpec | None = None
     rebuild: Callable[..., Mechanism] | None = field(default=None, repr=False)
     source: Path | None = None
+    continuous: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=int))
     _local: threading.local = field(default_factory=threading.local, init=False, repr=False)
 
     __repr__ = describe  # one line: name, family, coordinates, frames, closures; no URDF
 
-    # ------------------------------------------------------------------ sizes
     @property
     def nq(self) -> int:
         """Number of coordinates."""
@@ -124,7 +126,7 @@ class Mechanism:
 
     @property
     def nv(self) -> int:
-        """Number of velocity coordinates (equals nq unless multi-DOF joints)."""
+        """Number of velocity coordinates (equals nq unless closed with continuous joints)."""
         return len(self.v_index)
 
     @property
@@ -147,7 +149,6 @@ class Mechanism:
         """Frame id of the remote centre A (−1 when there is none)."""
         return -1 if self.rcm is None else self.rcm.point_frame_id
 
-    # ------------------------------------------------------------------ scratch
     @property
     def data(self) -> pin.Data:
         """Pinocchio data of the mimic model for the calling thread."""
@@ -164,22 +165,22 @@ class Mechanism:
             data = self._local.data_full = self.model_full.createData()
         return data
 
-    # ------------------------------------------------------------------ coordinates
     @cached_property
     def identity_order(self) -> bool:
         """Whether Pinocchio's q is the coordinate vector itself."""
         return bool(self.model.nq == self.nq and np.array_equal(self.q_index, np.arange(self.nq)))
 
+    @cached_property
+    def _neutral(self) -> np.ndarray:
+        return np.asarray(pin.neutral(self.model), dtype=float)
+
     def to_pin(self, q: np.ndarray) -> np.ndarray:
-        """Mechanism coordinates -> Pinocchio q (works on (..., n) arrays)."""
-        q = np.asarray(q, dtype=float)
-        out = np.zeros(q.shape[:-1] + (self.model.nq,))
-        out[..., self.q_index] = q
-        return out
+        """Coordinates -> Pinocchio q ((..., n) arrays; continuous θ -> cos θ, sin θ)."""
+        return jt.to_pin(np.asarray(q, dtype=float), self._neutral, self.q_index, self.continuous)
 
     def from_pin(self, q_pin: np.ndarray) -> np.ndarray:
-        """Pinocchio q -> Mechanism coordinates."""
-        return np.asarray(q_pin, dtype=float)[..., self.q_index]
+        """Pinocchio q -> Mechanism coordinates (continuous: atan2(sin, cos) [rad])."""
+        return jt.from_pin(np.asarray(q_pin, dtype=float), self.q_index, self.continuous)
 
     def v_pin(self, v: np.ndarray) -> np.ndarray:
         """Velocity coordinates -> Pinocchio v (works on (..., nv) arrays)."""
@@ -241,7 +242,6 @@ class Mechanism:
             [self.model.joints[lp.joint_index(self.model, n)].idx_v for n in names], dtype=int
         )
 
-    # ------------------------------------------------------------------ loops
     @cached_property
     def _named(self) -> dict[str, np.ndarray]:
         return configurations.named_configurations(self)

@@ -3,8 +3,8 @@
 The pitch four-bar's synthesis from its two dead centres solved in general
 (:mod:`rcm_pin.linkage.synthesis`: every real root), each root and the built linkage driven
 through a full crank turn on the Pinocchio closed loop of the catalogue's planar four-bar
-(:mod:`rcm_pin.report.eye_drive`), the paper's printed numbers beside the computed ones
-(:mod:`rcm_pin.report.eye_paper`), and random synthesis targets counted and simulated.
+(:mod:`rcm_pin.studies.four_bar_turn`), the paper's printed numbers beside the computed ones
+(:mod:`rcm_pin.studies.eye_paper`), and random synthesis targets counted and simulated.
 """
 
 from __future__ import annotations
@@ -15,32 +15,20 @@ from pathlib import Path
 import numpy as np
 
 from rcm_pin.analysis.mobility import mobility
-from rcm_pin.catalog import load
 from rcm_pin.errors import UnreachablePoseError
 from rcm_pin.linkage.fourbar import FourBar, Performance, performance, transmission_angle
 from rcm_pin.linkage.synthesis import LAYOUTS, synthesize
 from rcm_pin.mechanisms.eye_4dof import design as dz
-from rcm_pin.model.mechanism import Mechanism
-from rcm_pin.report.eye_drive import CrankTurn, crank_turn
 from rcm_pin.report.eye_mechanism import mechanism_section
-from rcm_pin.report.eye_paper import lid_rows, pitch_rows, yaw_rows
-from rcm_pin.report.framework import Section, comparison_table
+from rcm_pin.report.framework import Section
+from rcm_pin.studies.comparison import comparison_table
+from rcm_pin.studies.eye_paper import lid_rows, pitch_rows, yaw_rows
+from rcm_pin.studies.four_bar_turn import CrankTurn, pitch_model, simulate
 
 #: Transmission angles below this are poor (the designer's usual bound) [rad].
 MU_MIN = math.radians(40.0)
 #: Random synthesis targets simulated in the report (the benchmark script runs 10^3).
 N_RANDOM = 60
-
-
-def pitch_model(g: FourBar) -> Mechanism:
-    """The catalogue's planar four-bar with these lengths."""
-    return load("four_bar", frame=g.l0, crank=g.l1, coupler=g.l2, rocker=g.l3)
-
-
-def simulate(g: FourBar, n: int = 361) -> tuple[Mechanism, CrankTurn]:
-    """The Pinocchio loop of ``g`` driven through a full crank turn from ``home``."""
-    m = pitch_model(g)
-    return m, crank_turn(m, m.home, n)
 
 
 def _swing(p: Performance, t: CrankTurn) -> tuple[float, float]:
@@ -191,4 +179,4 @@ def section(out_dir: Path) -> Section:
     return Section(s.title, s.body, figures)
 
 
-__all__ = ["linkage_table", "random_targets", "report_section", "section", "simulate"]
+__all__ = ["linkage_table", "random_targets", "report_section", "section"]

@@ -3,62 +3,18 @@
 A section is a function ``(out_dir: Path) -> Section`` (listed in
 :mod:`rcm_pin.report.sections`). Each computes its numbers (never copies them), writes its
 figures into ``out_dir`` and returns markdown. Published numbers are typed in with their
-source; the table shows published, computed, difference and the reason where they differ.
+source; the table shows published, computed, difference and the reason where they differ
+(:class:`Comparison` and :func:`comparison_table` live in :mod:`rcm_pin.studies.comparison`,
+where the studies that reproduce a paper build their rows; they are re-exported here).
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-
-@dataclass(frozen=True)
-class Comparison:
-    """One published number next to the project's computation.
-
-    Attributes:
-        quantity: what it is (e.g. ``"q5"``).
-        published: the value printed in the paper (None when it prints none).
-        computed: the value rcm-pin computes.
-        unit: unit string (``"rad"``, ``"m/s"``).
-        reason: why they differ, when they do (empty when they agree).
-        tolerance: |published − computed| up to which they count as agreeing (the
-            paper's printed precision).
-    """
-
-    quantity: str
-    published: float | None
-    computed: float
-    unit: str = ""
-    reason: str = ""
-    tolerance: float = 0.0
-
-    @property
-    def difference(self) -> float | None:
-        """computed − published."""
-        return None if self.published is None else self.computed - self.published
-
-    @property
-    def agrees(self) -> bool:
-        """Whether the difference is within the printed precision."""
-        d = self.difference
-        return d is not None and abs(d) <= self.tolerance
-
-
-def comparison_table(rows: list[Comparison]) -> str:
-    """Markdown table: quantity, published, computed, difference, verdict and reason."""
-    lines = [
-        "| quantity | published | computed | difference | verdict | reason |",
-        "| --- | ---: | ---: | ---: | --- | --- |",
-    ]
-    for r in rows:
-        pub = "—" if r.published is None else f"{r.published:.6g}"
-        diff = "—" if r.difference is None else f"{r.difference:.3g}"
-        verdict = "agrees" if r.agrees else ("new" if r.published is None else "**differs**")
-        lines.append(
-            f"| {r.quantity} [{r.unit}] | {pub} | {r.computed:.6g} | {diff} | {verdict} "
-            f"| {r.reason} |"
-        )
-    return "\n".join(lines)
+# The rows of a paper's numbers are a study's result (rcm_pin.studies.comparison); the
+# report's sections print them.
+from rcm_pin.studies.comparison import Comparison, comparison_table
 
 
 @dataclass(frozen=True)

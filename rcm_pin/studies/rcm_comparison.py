@@ -4,7 +4,8 @@ A mechanism with an RCM in its URDF (``mech.rcm``) keeps its shaft through the r
 centre by construction: its trocar is that point, the insertion direction is its shaft
 axis at ``home``, its shaft is the RCM axis frame's axis and its tip the tool frame's
 origin; each tip sample is solved by the family's analytic inverse (:func:`rcm_pin.inverse`
-on the tool position, the branch nearest the previous sample). An arm without one gets a
+on the tool position, the branch nearest the previous sample), or, for a family without
+one (a user's file), by least squares from the previous sample. An arm without one gets a
 shaft of length :data:`TOOL_LENGTH` along the z axis of its tool frame, the insertion
 direction straight down, and follows the path with the RCM QP of
 :mod:`rcm_pin.control.rcm_qp` at the control rate.
@@ -28,7 +29,10 @@ from typing import Any
 
 import numpy as np
 
+from rcm_pin.analysis.capabilities import PositionSolver
 from rcm_pin.analysis.position import inverse
+from rcm_pin.analysis.reach import reach_bound
+from rcm_pin.analysis.serial_ik import solve_near
 from rcm_pin.catalog import load
 from rcm_pin.control.rcm_loop import position, track
 from rcm_pin.control.rcm_qp import ChainModel, RcmQP, chain_model
@@ -90,16 +94,9 @@ class RcmTrack:
 
 
 def reach(mech: Mechanism, frame_id: int, extra: float) -> float:
-    """Upper bound of the distance from the base the shaft can reach [m]: the sum of the
-    joint placement offsets along the chain plus the frame's offset and ``extra``."""
-    model = mech.model
-    frame = model.frames[frame_id]
-    total = float(np.linalg.norm(frame.placement.translation)) + extra
-    j = frame.parentJoint
-    while j > 0:
-        total += float(np.linalg.norm(model.jointPlacements[j].translation))
-        j = model.parents[j]
-    return total
+    """Upper bound of the distance from the base the shaft can reach [m]: the reach bound
+    of the frame (:func:`rcm_pin.analysis.reach.reach_bound`) plus ``extra``."""
+    return reach_bound(mech, str(mech.model.frames[frame_id].name), extra)
 
 
 def _arm(
@@ -154,18 +151,19 @@ def make_setup(
         if frame is not None or axis != "z":
             raise InvalidInputError(
                 f"{mech.name} has a mechanical RCM: its shaft is fixed by the mechanism; "
-                "valid: omit the tool frame and axis"
+                "valid: omit the tool frame and axis (load with rcm_axis_frame= / rcm_axis=)"
             )
         return _mechanical(mech, trocar)
     if trocar is None:
-        if frame is not None:
-            make_tool(mech.model, frame, axis)  # UnknownFrameError for a missing frame
-            if (frame, axis) != (str(mech.model.frames[mech.tool_frame_id].name), "z"):
+        tool = str(mech.model.frames[mech.tool_frame_id].name)
+        if frame is not None or axis != "z":
+            make_tool(mech.model, frame or tool, axis)  # UnknownFrameError for a missing frame
+            if (frame or tool, axis) != (tool, "z"):
                 raise InvalidInputError(
                     "the trocar is chosen for the tool frame's z axis only; valid: give "
                     "the trocar with another frame or axis"
                 )
-        return choose_trocar(mech.name)[0]
+        return choose_trocar(name_or_mech)[0]
     return _arm(mech, trocar_point(trocar), frame, axis)
 
 
@@ -201,11 +199,24 @@ def score(s: RcmSetup) -> float:
     return float(worst)
 
 
-@functools.lru_cache(maxsize=8)
-def choose_trocar(name: str) -> tuple[RcmSetup, tuple[tuple[tuple[float, ...], float], ...]]:
+Scored = tuple[RcmSetup, tuple[tuple[tuple[float, ...], float], ...]]
+
+
+def choose_trocar(name_or_mech: str | Mechanism) -> Scored:
     """The arm's set-up at the best trocar, and every candidate with its score (−1:
-    unreachable) (module docstring)."""
-    mech = load(name)
+    unreachable) (module docstring); a Mechanism is used as loaded (a file's never looked
+    up by name), a name is loaded once and cached."""
+    if isinstance(name_or_mech, str):
+        return _choose_named(name_or_mech)
+    return _choose(name_or_mech)
+
+
+@functools.lru_cache(maxsize=8)
+def _choose_named(name: str) -> Scored:
+    return _choose(load(name))
+
+
+def _choose(mech: Mechanism) -> Scored:
     home = np.asarray(mech.home, dtype=float)
     update(mech.model, mech.data, mech.to_pin(home))
     M = mech.data.oMf[mech.tool_frame_id]
@@ -226,7 +237,7 @@ def choose_trocar(name: str) -> tuple[RcmSetup, tuple[tuple[tuple[float, ...], f
                 best = (setup, value)
     if best is None:
         raise UnreachablePoseError(
-            f"{name}: no trocar candidate around the home posture is reachable for the "
+            f"{mech.name}: no trocar candidate around the home posture is reachable for the "
             "surgical paths; valid: pass a trocar explicitly"
         )
     return best[0], tuple(scored)
@@ -255,11 +266,14 @@ def run(s: RcmSetup, path: str, *, rate: float = 1000.0, duration: float | None 
 def _run_mechanical(s: RcmSetup, t: np.ndarray, p: np.ndarray, path: str) -> RcmTrack:
     mech = s.mech
     qs, times = np.empty((len(p), mech.nq)), np.empty(len(p) - 1)
-    prev = s.home
+    prev, closed_form = s.home, mech.family.capability(PositionSolver) is not None  # type: ignore[type-abstract]
     for k, target in enumerate(p):
         start = time.perf_counter()
-        sols = inverse(mech, target, ("x", "y", "z"), limits=True).solutions
-        q = min((sol.q for sol in sols), key=lambda x: float(np.linalg.norm(x - prev)))
+        if not closed_form:  # numeric: continuation from the previous sample
+            q = solve_near(mech, target, mech.output.subset(("x", "y", "z")), prev)
+        else:
+            sols = inverse(mech, target, ("x", "y", "z"), limits=True).solutions
+            q = min((sol.q for sol in sols), key=lambda x: float(np.linalg.norm(x - prev)))
         if k:
             times[k - 1] = time.perf_counter() - start
         qs[k] = prev = q

@@ -27,8 +27,10 @@ with warnings.catch_warnings():  # meshcat imports pyzmq's deprecated zmq.eventl
     from pinocchio.visualize import MeshcatVisualizer
 
 from rcm_pin.errors import InvalidInputError
+from rcm_pin.model.meshes import drawable_urdf
 from rcm_pin.viz.camera import FOV_DEG, meshcat_position
 from rcm_pin.viz.scene import SceneRecorder
+from rcm_pin.viz.server import LOCAL_HOST, start_server, stop_server
 
 _Scene = TypeVar("_Scene", bound="MeshcatScene")
 
@@ -63,26 +65,33 @@ class MeshcatScene:
     camera: tuple[np.ndarray, np.ndarray]
 
     def _open(self, model: pin.Model, urdf: str, *, package_dirs: Sequence[str] = (),
-              server: bool, zmq_url: str | None, snapshot_style: bool) -> None:  # fmt: skip
+              server: bool, zmq_url: str | None, snapshot_style: bool,
+              host: str = LOCAL_HOST) -> None:  # fmt: skip
         """Create the visualizer and load the model's visual geometry (parsed from ``urdf``).
 
         Args:
             model: the Pinocchio model the bodies follow (mimic joints included).
             urdf: URDF text with the visual geometry.
             package_dirs: folders that resolve ``package://`` mesh paths.
-            server: start a local ``meshcat-server`` (127.0.0.1).
+            server: start a local Meshcat server (:func:`rcm_pin.viz.server.start_server`:
+                it dies with this process).
             zmq_url: connect to a running local server instead.
             snapshot_style: white background, no grid or axes.
+            host: the address the started server's web viewer listens on (127.0.0.1).
         """
         if zmq_url is not None:
             check_zmq_url(zmq_url)
-        if zmq_url is not None or server:
+        proc = None
+        if zmq_url is None and server:
+            proc, zmq_url, _ = start_server(host)
+        if zmq_url is not None:
             with contextlib.redirect_stdout(io.StringIO()):  # meshcat prints the URL
                 self.vis = meshcat.Visualizer(zmq_url=zmq_url)
+            self.vis.window.server_proc = proc  # close() stops it
         else:
             self.vis = meshcat.Visualizer(window=SceneRecorder())
-        visual = pin.buildGeomFromUrdfString(
-            model, urdf, pin.GeometryType.VISUAL, package_dirs=list(package_dirs)
+        visual = pin.buildGeomFromUrdfString(  # meshes it cannot draw: warned, left out
+            model, drawable_urdf(urdf), pin.GeometryType.VISUAL, package_dirs=list(package_dirs)
         )
         # No collision model: with the visual one as collision model Pinocchio loaded every
         # mesh a second time under .../collisions (hidden, but sent and exported: an arm's
@@ -180,9 +189,8 @@ class MeshcatScene:
         """Stop the server process this viewer started (no-op for in-memory scenes)."""
         window = self.vis.window
         proc = getattr(window, "server_proc", None)
-        if proc is not None and proc.poll() is None:
-            proc.kill()
-            proc.wait()
+        if proc is not None:
+            stop_server(proc)
         socket = getattr(window, "zmq_socket", None)
         if socket is not None:
             socket.close(linger=0)

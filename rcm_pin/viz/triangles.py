@@ -21,6 +21,7 @@ import numpy as np
 import pinocchio as pin
 
 from rcm_pin.model.mechanism import Mechanism
+from rcm_pin.model.meshes import drawable_urdf
 from rcm_pin.viz import overlays as ov
 from rcm_pin.viz.assets import assets
 
@@ -110,10 +111,11 @@ def shape_triangles(geometry: Any) -> tuple[np.ndarray, np.ndarray]:
 
 
 def visual_model(mech: Mechanism) -> pin.GeometryModel:
-    """The visual GeometryModel of the mechanism's URDF on its (mimic) model."""
+    """The visual GeometryModel of the mechanism's URDF on its (mimic) model (meshes that
+    cannot be drawn left out, each with a warning: :func:`rcm_pin.model.meshes.drawable_urdf`)."""
     dirs = list(assets(mech).mesh_dirs(mech))
     return pin.buildGeomFromUrdfString(
-        mech.model, mech.urdf, pin.GeometryType.VISUAL, package_dirs=dirs
+        mech.model, drawable_urdf(mech.urdf), pin.GeometryType.VISUAL, package_dirs=dirs
     )
 
 

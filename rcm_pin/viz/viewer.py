@@ -38,6 +38,7 @@ from rcm_pin.viz import overlays as ov
 from rcm_pin.viz.assets import assets
 from rcm_pin.viz.base import OVERLAYS, MeshcatScene
 from rcm_pin.viz.camera import box_corners, frame_points, plane_basis, project
+from rcm_pin.viz.server import LOCAL_HOST
 
 #: Camera direction for planar mechanisms in (u, w, n) of the plane (mostly from above).
 PLANAR_VIEW = np.array([0.2, -0.7, 1.0])
@@ -56,6 +57,8 @@ class Viewer(ov.OverlaysMixin, MeshcatScene):
         mech: any mechanism (serial, closed, with or without an RCM).
         server: start a local ``meshcat-server`` (True) or record in memory (False).
         zmq_url: connect to an already running local server instead (127.0.0.1 only).
+        host: with ``server``: the address its web viewer listens on (default 127.0.0.1,
+            this machine only).
         snapshot_style: white background and no grid (for screenshots).
         markers: draw the default markers (:func:`rcm_pin.viz.overlays.point_markers`,
             and the insertion axis where there is an RCM).
@@ -73,10 +76,12 @@ class Viewer(ov.OverlaysMixin, MeshcatScene):
     """
 
     def __init__(self, mech: Mechanism, *, server: bool = False, zmq_url: str | None = None,
-                 snapshot_style: bool = False, markers: bool = True) -> None:  # fmt: skip
+                 snapshot_style: bool = False, markers: bool = True,
+                 host: str = LOCAL_HOST) -> None:  # fmt: skip
         self.mech = mech
         self._open(mech.model, mech.urdf, package_dirs=list(assets(mech).mesh_dirs(mech)),
-                   server=server, zmq_url=zmq_url, snapshot_style=snapshot_style)  # fmt: skip
+                   server=server, zmq_url=zmq_url, snapshot_style=snapshot_style,
+                   host=host)  # fmt: skip
         self._data = mech.model.createData()
         self._points: dict[str, int] = {}
         self._span: tuple[float, float] | None = None

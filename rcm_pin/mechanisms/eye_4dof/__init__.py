@@ -11,7 +11,12 @@ The four-bar math is :mod:`rcm_pin.linkage`.
 
 from __future__ import annotations
 
+from rcm_pin.lazy import lazy_modules
 from rcm_pin.mechanisms.eye_4dof.design import PAPER, EyeDesign
 from rcm_pin.mechanisms.eye_4dof.family import FAMILY, MODES, EyeFamily, geometry
 
 __all__ = ["FAMILY", "MODES", "PAPER", "EyeDesign", "EyeFamily", "geometry"]
+
+# Each module of the family is an attribute of the package, imported on first access
+# (``from rcm_pin.mechanisms import <family>`` is the public entry, docs/api.md).
+__getattr__, __dir__ = lazy_modules(__name__, ("checks", "closed_form", "design", "family"))

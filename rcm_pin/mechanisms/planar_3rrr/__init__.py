@@ -22,6 +22,7 @@ from rcm_pin.analysis.workspace import WorkspaceModel
 from rcm_pin.control.capabilities import DefaultScenarios
 from rcm_pin.errors import InvalidInputError, UnreachablePoseError
 from rcm_pin.interfaces.design import DesignMetric, MetricSource
+from rcm_pin.lazy import lazy_modules
 from rcm_pin.mechanisms.planar_3rrr import closed_form as p3
 from rcm_pin.model.family import Branch, Family
 from rcm_pin.model.mechanism import Mechanism
@@ -207,3 +208,7 @@ class Planar3RRRFamily(Family):
 FAMILY = Planar3RRRFamily()
 
 __all__ = ["FAMILY", "MODES", "Planar3RRRFamily", "geometry", "normalised_ab"]
+
+# Each module of the family is an attribute of the package, imported on first access
+# (``from rcm_pin.mechanisms import <family>`` is the public entry, docs/api.md).
+__getattr__, __dir__ = lazy_modules(__name__, ("closed_form", "design", "plots", "workspace"))

@@ -32,6 +32,7 @@ from rcm_pin.control.capabilities import (
     TaskKinematics,
 )
 from rcm_pin.interfaces.design import DesignMetric, MetricSource
+from rcm_pin.lazy import lazy_modules
 from rcm_pin.model.family import Branch, Family
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import Output
@@ -216,3 +217,25 @@ __all__ = [
     "PLACEMENT_JOINTS",
     "RcmFamily",
 ]
+
+# Each module of the family is an attribute of the package, imported on first access
+# (``from rcm_pin.mechanisms import <family>`` is the public entry, docs/api.md).
+__getattr__, __dir__ = lazy_modules(
+    __name__,
+    (
+        "accuracy",
+        "analytic_ik",
+        "closed_form",
+        "design",
+        "ik_scalar",
+        "ik_solutions",
+        "ik_solve",
+        "ik_tables",
+        "inverse",
+        "point",
+        "singularity",
+        "two_mass",
+        "velocity",
+        "workspace",
+    ),
+)

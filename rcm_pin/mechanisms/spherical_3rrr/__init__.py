@@ -51,6 +51,7 @@ from rcm_pin.analysis.singularity_model import ABMatrices, NumericSingularity
 from rcm_pin.analysis.workspace import WorkspaceModel
 from rcm_pin.errors import SingularConfigurationError, UnreachablePoseError
 from rcm_pin.interfaces.design import DesignMetric, MetricSource
+from rcm_pin.lazy import lazy_modules
 from rcm_pin.mechanisms.spherical_3rrr import accuracy, direct
 from rcm_pin.mechanisms.spherical_3rrr import closed_form as sc
 from rcm_pin.model.family import Branch, Family
@@ -223,3 +224,9 @@ __all__ = [
     "normalised_ab",
     "pose_and_drives",
 ]
+
+# Each module of the family is an attribute of the package, imported on first access
+# (``from rcm_pin.mechanisms import <family>`` is the public entry, docs/api.md).
+__getattr__, __dir__ = lazy_modules(
+    __name__, ("accuracy", "closed_form", "design", "direct", "maps", "paper", "plots", "workspace")
+)

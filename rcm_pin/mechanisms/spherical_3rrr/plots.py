@@ -13,6 +13,7 @@
 from __future__ import annotations
 
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -84,12 +85,7 @@ def maps_figure(
         if pts:
             ax.plot([p[0] for p in pts], np.degrees([p[1] for p in pts]), "rx", ms=7, mew=1.5)
         ax.set_title(f"torsion σ = {sig:g}°", fontsize=9)
-        ax.set_rlim(0, 180)
-        ax.set_rticks([45, 90, 135])
-        ax.tick_params(labelsize=7)
-        ax.set_axisbelow(False)  # tilt labels stay readable over the map and the marks
-        for label in ax.get_yticklabels():
-            label.set_bbox({"facecolor": "white", "alpha": 0.7, "pad": 1, "edgecolor": "none"})
+        _polar_style(ax)
     fig.colorbar(mesh, ax=np.atleast_1d(axes)[: len(torsions_deg)].tolist(), shrink=0.7,
                  label="type 1: min|B_ii| (colour)")  # fmt: skip
     if curves:
@@ -99,12 +95,7 @@ def maps_figure(
                             s=2, cmap="twilight", vmin=-180, vmax=180)  # fmt: skip
         fig.colorbar(sc, ax=ax, shrink=0.7, label="torsion σ [deg]")
         ax.set_title("the six singular curves v_i = ±u_i", fontsize=9)
-        ax.set_rlim(0, 180)
-        ax.set_rticks([45, 90, 135])
-        ax.tick_params(labelsize=7)
-        ax.set_axisbelow(False)  # tilt labels stay readable over the map and the marks
-        for label in ax.get_yticklabels():
-            label.set_bbox({"facecolor": "white", "alpha": 0.7, "pad": 1, "edgecolor": "none"})
+        _polar_style(ax)
     marks = (
         "red ×: singular"
         if curves
@@ -145,6 +136,16 @@ def cone_figure(
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return Path(path)
+
+
+def _polar_style(ax: Any) -> None:
+    """Tilt radius 0–180°, ticks every 45°, labels readable over the map and the marks."""
+    ax.set_rlim(0, 180)
+    ax.set_rticks([45, 90, 135])
+    ax.tick_params(labelsize=7)
+    ax.set_axisbelow(False)
+    for label in ax.get_yticklabels():
+        label.set_bbox({"facecolor": "white", "alpha": 0.7, "pad": 1, "edgecolor": "none"})
 
 
 __all__ = ["cone_figure", "maps_figure", "slice_points"]

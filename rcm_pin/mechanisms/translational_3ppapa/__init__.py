@@ -18,6 +18,7 @@ from rcm_pin.analysis.capabilities import Assemblies, Branches, DefaultPoses, Nu
 from rcm_pin.analysis.singularity_model import ABMatrices, NumericSingularity
 from rcm_pin.analysis.workspace import WorkspaceModel
 from rcm_pin.errors import InvalidInputError, UnreachablePoseError
+from rcm_pin.lazy import lazy_modules
 from rcm_pin.mechanisms.translational_3ppapa import accuracy
 from rcm_pin.mechanisms.translational_3ppapa.closed_form import (
     LEG_SIGNS,
@@ -246,3 +247,9 @@ __all__ = [
     "platform_point",
     "residual",
 ]
+
+# Each module of the family is an attribute of the package, imported on first access
+# (``from rcm_pin.mechanisms import <family>`` is the public entry, docs/api.md).
+__getattr__, __dir__ = lazy_modules(
+    __name__, ("accuracy", "closed_form", "direct", "plots", "verdicts", "workspace")
+)

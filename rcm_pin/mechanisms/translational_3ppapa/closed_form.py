@@ -112,16 +112,22 @@ def platform_point(g: Geometry3PPaPa, q: np.ndarray, angles: np.ndarray) -> np.n
     )
 
 
-def residual(g: Geometry3PPaPa, q: np.ndarray, p: np.ndarray, signs: np.ndarray) -> np.ndarray:
-    """F (..., 3) at points p (..., 3) for sign arrays signs (..., 3, 2); NaN out of reach."""
+def drives(g: Geometry3PPaPa, p: np.ndarray, signs: np.ndarray) -> np.ndarray:
+    """Drives q (..., 3) [m] of points p (..., 3) in signs (..., 3, 2); NaN out of reach."""
     out = []
     for i in range(3):
         a, b, c = np.moveaxis(local(p, i), -1, 0)
         with np.errstate(invalid="ignore"):
             r1 = signs[..., i, 0] * np.sqrt(g.l1**2 - c * c)
             r2 = signs[..., i, 1] * np.sqrt(g.l2**2 - b * b)
-        out.append(q[i] - a - g.l3 - r2 - r1)
+        out.append(a + g.l3 + r2 + r1)
     return np.stack(out, axis=-1)
+
+
+def residual(g: Geometry3PPaPa, q: np.ndarray, p: np.ndarray, signs: np.ndarray) -> np.ndarray:
+    """F = q − drives(p) (..., 3) at points p (..., 3) for sign arrays signs (..., 3, 2);
+    NaN out of reach. ``q[i]`` is drive i (a number, or one per point: q is (3, ...))."""
+    return np.moveaxis(np.asarray(q, dtype=float), 0, -1) - drives(g, p, signs)
 
 
 def a_matrix(g: Geometry3PPaPa, p: np.ndarray, signs: np.ndarray) -> np.ndarray:
@@ -196,6 +202,7 @@ __all__ = [
     "a_from_angles",
     "a_matrix",
     "direct_position",
+    "drives",
     "inverse_position",
     "label",
     "leg_angles",

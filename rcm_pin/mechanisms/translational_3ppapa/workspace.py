@@ -25,7 +25,7 @@ from rcm_pin.mechanisms.translational_3ppapa.closed_form import (
     SIGN_PATTERNS,
     Geometry3PPaPa,
     a_matrix,
-    local,
+    drives,
 )
 
 #: Half-width of the sampling box, in units of min(l1, l2) (it contains the reach).
@@ -34,18 +34,6 @@ BOX_FACTOR = 1.1
 CONDITION = 0.1
 #: Every working mode's signs (64, 3, 2).
 SIGNS = np.array(SIGN_PATTERNS, dtype=float)
-
-
-def drives(g: Geometry3PPaPa, p: np.ndarray, signs: np.ndarray) -> np.ndarray:
-    """Drives q (..., 3) [m] of points p (..., 3) in signs (..., 3, 2); NaN out of reach."""
-    out = []
-    for i in range(3):
-        a, b, c = np.moveaxis(local(p, i), -1, 0)
-        with np.errstate(invalid="ignore"):
-            r1 = signs[..., i, 0] * np.sqrt(g.l1**2 - c * c)
-            r2 = signs[..., i, 1] * np.sqrt(g.l2**2 - b * b)
-        out.append(a + g.l3 + r2 + r1)
-    return np.stack(out, axis=-1)
 
 
 def measures(
@@ -147,4 +135,4 @@ def section(
     return {"u": u, "v": u, "det": det}
 
 
-__all__ = ["BOX_FACTOR", "CONDITION", "SIGNS", "drives", "measures", "section", "volumes"]
+__all__ = ["BOX_FACTOR", "CONDITION", "SIGNS", "measures", "section", "volumes"]

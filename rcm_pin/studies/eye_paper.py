@@ -12,7 +12,7 @@ import math
 
 from rcm_pin.linkage.fourbar import FourBar, performance
 from rcm_pin.mechanisms.eye_4dof import design as dz
-from rcm_pin.report.framework import Comparison
+from rcm_pin.studies.comparison import Comparison
 
 MM, DEG = 1e3, 180.0 / math.pi
 

@@ -7,7 +7,8 @@ kinematics of the output frame, and each extreme refined where the output rate
 dψ/dθ = ω_z(q̇(θ)) (closure Jacobians, :func:`~rcm_pin.analysis.loop_velocity.
 passive_velocity`) changes sign, by Brent's method on that rate (each evaluation a
 continuation from the nearest sample), so the extremes are exact to the closure tolerance,
-not to the grid.
+not to the grid. :func:`simulate` does it for a :class:`~rcm_pin.linkage.fourbar.FourBar`
+on the catalogue's planar four-bar with its lengths (paper 002's pitch drive).
 """
 
 from __future__ import annotations
@@ -21,6 +22,8 @@ from scipy.optimize import brentq
 
 from rcm_pin.analysis.closed_position import direct_position_path
 from rcm_pin.analysis.loop_velocity import passive_velocity
+from rcm_pin.catalog import load
+from rcm_pin.linkage.fourbar import FourBar
 from rcm_pin.model.mechanism import Mechanism
 
 
@@ -97,4 +100,15 @@ def crank_turn(mech: Mechanism, q_start: np.ndarray, n: int = 721) -> CrankTurn:
     return CrankTurn(theta, psi, tuple(extremes), lo[1], hi[1], stroke, ratio, residual)
 
 
-__all__ = ["CrankTurn", "crank_turn"]
+def pitch_model(g: FourBar) -> Mechanism:
+    """The catalogue's planar four-bar with these lengths."""
+    return load("four_bar", frame=g.l0, crank=g.l1, coupler=g.l2, rocker=g.l3)
+
+
+def simulate(g: FourBar, n: int = 361) -> tuple[Mechanism, CrankTurn]:
+    """The Pinocchio loop of ``g`` driven through a full crank turn from ``home``."""
+    m = pitch_model(g)
+    return m, crank_turn(m, m.home, n)
+
+
+__all__ = ["CrankTurn", "crank_turn", "pitch_model", "simulate"]
