@@ -95,6 +95,20 @@ class SolverError(RcmPinError, RuntimeError):
     """A numerical solver that failed to converge or reported infeasibility."""
 
 
+class FolderBusyError(RcmPinError, RuntimeError):
+    """An output folder locked by another run (the message names its PID); exit 2."""
+
+
+class ComputationLostError(SolverError):
+    """A computation that could not finish because its workers or its Dask scheduler were
+    lost; what had finished is kept. A failed solve to the CLI (exit 3)."""
+
+
+class CodeMismatchError(RcmPinError, RuntimeError):
+    """A worker whose code hash differs from the client's (other sources or package
+    versions): its results would not be those of the client's code, so it refuses."""
+
+
 class SolutionNotFoundError(SolverError):
     """A numeric search (e.g. the multistart inverse kinematics) that found no solution
     within its budget, where nothing proves that none exists (unlike
@@ -143,6 +157,9 @@ def require(extra: str, module: str) -> types.ModuleType:
 
 __all__ = [
     "EXTRAS",
+    "CodeMismatchError",
+    "ComputationLostError",
+    "FolderBusyError",
     "InvalidInputError",
     "JointLimitError",
     "MeshLocationError",

@@ -6,8 +6,9 @@ import importlib
 import json
 
 import fake_sections
+import pytest
 
-from rcm_pin.report import runner
+from rcm_pin.report import cache, runner
 from rcm_pin.report.sections import SECTIONS, section_function
 
 SMALL = [("small", "fake_sections")]
@@ -23,7 +24,8 @@ def test_a_rerun_reuses_the_cache_until_a_file_it_wrote_changes(tmp_path):
     assert [o.cached for o in second] == [True] and fake_sections.CALLS == ["small"]
     assert second[0].section == first[0].section
     (tmp_path / "small.txt").write_text("edited by hand")
-    third = list(runner.run_sections(SMALL, tmp_path, jobs=1))
+    with pytest.warns(cache.CacheWarning, match="small.txt has changed"):
+        third = list(runner.run_sections(SMALL, tmp_path, jobs=1))
     assert [o.cached for o in third] == [False] and fake_sections.CALLS == ["small", "small"]
     forced = list(runner.run_sections(SMALL, tmp_path, jobs=1, cache=False))
     assert [o.cached for o in forced] == [False]
@@ -34,6 +36,7 @@ def test_a_changed_key_recomputes(tmp_path):
     entry = tmp_path / ".cache" / "small.json"
     data = json.loads(entry.read_text())
     data["key"] = "0" * 64  # as if a source the section depends on had changed
+    data["checksum"] = cache._checksum(data)  # an intact entry of another key
     entry.write_text(json.dumps(data))
     assert [o.cached for o in runner.run_sections(SMALL, tmp_path, jobs=1)] == [False]
 
@@ -61,3 +64,18 @@ def test_a_section_key_covers_the_modules_it_imports():
     assert "rcm_pin.catalog.loading" in upstream and "rcm_pin.cli" not in upstream
     assert runner.cache_key(module) == runner.cache_key(module)
     assert runner.cache_key(module) != runner.cache_key(SECTIONS[1][1])
+
+
+def test_every_section_key_covers_the_kernel_providers(monkeypatch):
+    """ocp.kernels is loaded at run time (an entry point), imported by no section: a change
+    to it changes every section's key."""
+    before = {m: runner.cache_key(m) for _, m in SECTIONS}
+    original = runner._sha
+
+    def edited(path):
+        sha = original(path)
+        return "edited" + sha if "ocp/kernels/closure_kernel.py" in str(path) else sha
+
+    monkeypatch.setattr(runner, "_sha", edited)
+    after = {m: runner.cache_key(m) for _, m in SECTIONS}
+    assert all(after[m] != before[m] for m in before), "a key ignores ocp/kernels"

@@ -3,10 +3,13 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
+import io
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from rcm_pin.cli._common import emit, output_path, parse_xacro_args
+from rcm_pin.processes import atomic_write, folder_lock
 
 if TYPE_CHECKING:
     from rcm_pin.design import Study
@@ -111,14 +114,19 @@ def cmd_optimize(args: argparse.Namespace) -> int:
     if out is not None:
         require("design", "pyarrow")  # the table is written after the search: check first
     study = _study(args)
-    res = optimize(study, args.trials, args.population, args.scheduler, args.workers, args.chunk)
-    front = res.frame[res.frame["pareto"]]
-    figures = []
-    if out is not None:
-        res.frame.to_parquet(out / "optimize.parquet", index=False)
-        if len(study.metrics) >= 2:
-            a, b = study.metrics[:2]
-            figures.append(str(pareto_front(res.frame, a, b, out / "pareto.png")))
+    with folder_lock(out) if out is not None else contextlib.nullcontext():  # one run per --out
+        res = optimize(
+            study, args.trials, args.population, args.scheduler, args.workers, args.chunk
+        )
+        front = res.frame[res.frame["pareto"]]
+        figures = []
+        if out is not None:
+            buffer = io.BytesIO()
+            res.frame.to_parquet(buffer, index=False)
+            atomic_write(out / "optimize.parquet", buffer.getvalue())
+            if len(study.metrics) >= 2:
+                a, b = study.metrics[:2]
+                figures.append(str(pareto_front(res.frame, a, b, out / "pareto.png")))
     payload = {
         "mechanism": study.mechanism,
         "trials": res.trials,

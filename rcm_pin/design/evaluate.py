@@ -9,38 +9,24 @@ NaN metrics, never a crash of the sweep.
 
 from __future__ import annotations
 
-import hashlib
-import inspect
-from functools import lru_cache
-from pathlib import Path
+import os
+import socket
 from typing import Any
 
 from rcm_pin.catalog import load
-from rcm_pin.catalog.table import get_entry
 from rcm_pin.design.metrics import metric_source
+from rcm_pin.design.provenance import code_hash
 from rcm_pin.design.study import Design
-from rcm_pin.errors import RcmPinError
-from rcm_pin.model.resources import xacro_dir
+from rcm_pin.errors import CodeMismatchError, RcmPinError
 
 #: Status of a design whose metrics were computed.
 OK = "ok"
 
 
-@lru_cache(maxsize=32)
 def model_hash(mechanism: str) -> str:
-    """Hash (16 hex digits) of what a design's figures depend on: every xacro source, the
-    family's package and the model layer's sources."""
-    family = type(get_entry(mechanism).family)
-    family_file = Path(inspect.getfile(family))
-    family_dir = family_file.parent if family_file.name == "__init__.py" else family_file
-    files = sorted(xacro_dir().glob("*.xacro"))
-    files += sorted(family_dir.rglob("*.py")) if family_dir.is_dir() else [family_dir]
-    files += sorted((Path(__file__).parents[1] / "model").glob("*.py"))
-    digest = hashlib.sha256()
-    for f in files:
-        digest.update(f.name.encode())
-        digest.update(f.read_bytes())
-    return digest.hexdigest()[:16]
+    """The code hash of the mechanism's rows (:func:`rcm_pin.design.provenance.code_hash`:
+    the sources its metrics import, the xacro files, the package versions)."""
+    return code_hash(mechanism)
 
 
 def evaluate(design: Design, metrics: tuple[str, ...]) -> dict[str, Any]:
@@ -60,8 +46,27 @@ def evaluate(design: Design, metrics: tuple[str, ...]) -> dict[str, Any]:
     return row
 
 
-def evaluate_chunk(designs: list[Design], metrics: tuple[str, ...]) -> list[dict[str, Any]]:
-    """Rows of a chunk of designs, in the chunk's order."""
+def evaluate_chunk(
+    designs: list[Design], metrics: tuple[str, ...], expected: str | None = None
+) -> list[dict[str, Any]]:
+    """Rows of a chunk of designs, in the chunk's order.
+
+    Args:
+        expected: the client's code hash of the chunk's mechanism; this process checks its
+            own before computing anything.
+
+    Raises:
+        CodeMismatchError: this process's code hash is not ``expected`` (other sources or
+            package versions than the client's): it refuses the chunk.
+    """
+    if expected is not None and designs:
+        mine = model_hash(designs[0].mechanism)
+        if mine != expected:
+            raise CodeMismatchError(
+                f"worker {socket.gethostname()}:{os.getpid()} runs code hash {mine} for "
+                f"{designs[0].mechanism}, the client {expected}; valid: workers with the "
+                "client's rcm-pin sources and package versions (restart them)"
+            )
     return [evaluate(d, metrics) for d in designs]
 
 

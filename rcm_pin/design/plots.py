@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import io
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -11,9 +12,17 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt
 
 from rcm_pin.errors import InvalidInputError
+from rcm_pin.processes import atomic_write
 
 if TYPE_CHECKING:
     import pandas as pd
+
+
+def _save(fig: plt.Figure, path: Path) -> None:
+    """The figure as PNG by atomic rename (a killed run never leaves half a picture)."""
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png", dpi=120)
+    atomic_write(Path(path), buffer.getvalue())
 
 
 def metric_map(frame: pd.DataFrame, x: str, y: str, metric: str, path: Path) -> Path:
@@ -36,7 +45,7 @@ def metric_map(frame: pd.DataFrame, x: str, y: str, metric: str, path: Path) -> 
     # the marks are explained in the title: a legend inside the map covered a corner's marks
     marks = "; white ×: infeasible" if len(bad) else ""
     ax.set_title(f"{frame['mechanism'].iloc[0]}: {metric}{marks}")
-    fig.savefig(path, dpi=120)
+    _save(fig, path)
     plt.close(fig)
     return Path(path)
 
@@ -53,7 +62,7 @@ def pareto_front(frame: pd.DataFrame, a: str, b: str, path: Path) -> Path:
     ax.legend()
     ax.grid(True, alpha=0.3)
     fig.tight_layout()
-    fig.savefig(path, dpi=120)
+    _save(fig, path)
     plt.close(fig)
     return Path(path)
 

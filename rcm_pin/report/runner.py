@@ -1,47 +1,62 @@
 """Running the report's sections: in parallel processes, each cached by what it depends on.
 
-Each section runs in a folder of its own (``out/.work/<slug>``) so that sections running at
-the same time never mix their files; its files are then moved into ``out`` (the markdown
-refers to them by bare names, so the links stay valid).
+A run holds the lock of ``out`` (:func:`rcm_pin.processes.folder_lock`: a second run on
+the same folder exits with :class:`~rcm_pin.errors.FolderBusyError` naming the holder's
+PID). Each section runs in a folder of its own inside the run's private work folder
+(``out/.work/<pid>-<random>/<slug>``) so that sections running at the same time never mix
+their files; its files are then moved into ``out`` by rename (the markdown refers to them
+by bare names, so the links stay valid) and only then is its cache entry written. Work
+folders left by a killed run are removed by the next run (it holds the lock, so no other
+run is using them). Pool processes die with the run (:func:`rcm_pin.processes.process_pool`).
 
 **Cache.** A section's result (title, markdown, figures, the files it wrote and their
-hashes) is kept in ``out/.cache/<slug>.json`` under a key, the SHA-256 of
+hashes, a checksum of it all: :mod:`rcm_pin.report.cache`) is kept in
+``out/.cache/<slug>.json`` under a key, the SHA-256 of
 
 * the sources of every module the section's module imports, directly or not (the import
   graph of ``rcm_pin`` and ``ocp`` built by grimp, the library behind import-linter, from
   the ``[report]`` extra), and its own source; without grimp, the sources of every module
   of ``rcm_pin`` and ``ocp`` (a superset: never stale, but any edit recomputes every
   section);
+* the same for the kernel providers (the entry points of ``rcm_pin.kernels``, e.g.
+  ``ocp.kernels``, every module of their packages and what they import), which every
+  closed-mechanism solve loads at run time without a static import;
 * every file of ``xacro/`` and ``urdf/`` (the models the sections load);
 * the versions of the numerical packages (Pinocchio, CasADi, NumPy, SciPy, matplotlib,
   example-robot-data) and of Python.
 
-A rerun reuses a section when its key is unchanged and every file it wrote is still in
-``out`` with the same hash; ``cache=False`` (``--no-cache``) recomputes everything.
+A rerun reuses a section when its entry is intact (checksum), its key is unchanged and
+every file it names is still in ``out`` with the same hash; a damaged entry is recomputed
+with a :class:`~rcm_pin.report.cache.CacheWarning`; ``cache=False`` (``--no-cache``)
+recomputes everything.
 """
 
 from __future__ import annotations
 
+import contextlib
 import hashlib
-import json
 import os
 import platform
+import secrets
 import shutil
 import sys
 import time
 from collections.abc import Callable, Iterator
 from concurrent.futures import as_completed
-from dataclasses import asdict, dataclass
+from dataclasses import dataclass
 from functools import cache, lru_cache
 from importlib import metadata
 from pathlib import Path
 
 from rcm_pin.errors import MissingExtraError, require
 from rcm_pin.model.resources import urdf_dir, xacro_dir
-from rcm_pin.processes import process_pool
+from rcm_pin.processes import folder_lock, process_pool, remove_temporaries
+from rcm_pin.report.cache import read_entry, write_entry
 from rcm_pin.report.framework import Section
 
 SectionFn = Callable[[Path], Section]
+#: Entry-point group of the kernel providers (rcm_pin.model.kernels.GROUP).
+KERNELS = "rcm_pin.kernels"
 #: Packages whose versions enter every cache key.
 PACKAGES = ("pin", "casadi", "numpy", "scipy", "matplotlib", "example-robot-data")
 
@@ -126,8 +141,10 @@ def cache_key(module: str) -> str:
     if graph is None:  # no import graph: every module (module docstring)
         upstream: set[str] | frozenset[str] = _every_module()
     else:
-        known = module in graph.modules  # type: ignore[attr-defined]
-        upstream = graph.find_upstream_modules(module) if known else set()  # type: ignore[attr-defined]
+        upstream = set()
+        for root in {module, *_kernel_roots(graph)}:
+            if root in graph.modules:  # type: ignore[attr-defined]
+                upstream |= {root, *graph.find_upstream_modules(root)}  # type: ignore[attr-defined]
     modules = sorted({module, *upstream})
     digest = hashlib.sha256()
     for name in modules:
@@ -140,6 +157,17 @@ def cache_key(module: str) -> str:
     return digest.hexdigest()
 
 
+def _kernel_roots(graph: object) -> set[str]:
+    """The kernel providers' modules (entry points of :data:`KERNELS`) and every module of
+    their packages."""
+    roots = set()
+    for ep in metadata.entry_points(group=KERNELS):
+        roots.add(ep.module)
+        if ep.module in graph.modules:  # type: ignore[attr-defined]
+            roots |= graph.find_descendants(ep.module)  # type: ignore[attr-defined]
+    return roots
+
+
 @cache
 def _version(package: str) -> str:
     try:
@@ -149,26 +177,16 @@ def _version(package: str) -> str:
 
 
 def _cached(out_dir: Path, name: str, key: str) -> Section | None:
-    path = out_dir / ".cache" / f"{slug(name)}.json"
-    if not path.is_file():
-        return None
-    try:
-        entry = json.loads(path.read_text())
-        if entry["key"] != key:
-            return None
-        for file, sha in entry["files"].items():
-            if not (out_dir / file).is_file() or _sha(out_dir / file) != sha:
-                return None
-        s = entry["section"]
-        return Section(s["title"], s["body"], tuple(s["figures"]))
-    except (OSError, ValueError, KeyError, TypeError):
-        return None  # a damaged cache entry is recomputed
+    return read_entry(out_dir, slug(name), key, _sha)
 
 
-def run_one(name: str, module: str, out_dir: Path, key: str) -> Outcome:
-    """Run one section in its own work folder, move its files out, record it in the cache."""
+def run_one(
+    name: str, module: str, out_dir: Path, key: str, work_root: Path | None = None
+) -> Outcome:
+    """Run one section in its own work folder (inside ``work_root``, the run's private one),
+    move its files out, then record it in the cache."""
     fn = _resolve(module)
-    work = out_dir / ".work" / slug(name)
+    work = (work_root or out_dir / ".work" / f"{os.getpid()}-{secrets.token_hex(4)}") / slug(name)
     shutil.rmtree(work, ignore_errors=True)
     work.mkdir(parents=True)
     start = time.perf_counter()
@@ -178,13 +196,10 @@ def run_one(name: str, module: str, out_dir: Path, key: str) -> Outcome:
     for path in sorted(p for p in work.rglob("*") if p.is_file()):
         rel = path.relative_to(work)
         (out_dir / rel).parent.mkdir(parents=True, exist_ok=True)
-        shutil.move(path, out_dir / rel)
+        os.replace(path, out_dir / rel)
         files[str(rel)] = _sha(out_dir / rel)
     shutil.rmtree(work, ignore_errors=True)
-    cache = out_dir / ".cache"
-    cache.mkdir(exist_ok=True)
-    entry = {"key": key, "name": name, "files": files, "section": asdict(section)}
-    (cache / f"{slug(name)}.json").write_text(json.dumps(entry, indent=1))
+    write_entry(out_dir, slug(name), name, key, section, files)
     return Outcome(name, section, seconds, cached=False)
 
 
@@ -199,24 +214,38 @@ def run_sections(
     chosen: list[tuple[str, str]], out_dir: Path, jobs: int | None = None, cache: bool = True
 ) -> Iterator[Outcome]:
     """Outcomes of the chosen (name, module) sections, cached ones first, the others as
-    they finish."""
+    they finish, under the lock of ``out_dir``.
+
+    Raises:
+        FolderBusyError: another run holds the lock of ``out_dir``.
+    """
     jobs = jobs or os.cpu_count() or 1
-    keys = {name: cache_key(module) for name, module in chosen}
-    todo = []
-    for name, module in chosen:
-        hit = _cached(out_dir, name, keys[name]) if cache else None
-        if hit is not None:
-            yield Outcome(name, hit, 0.0, cached=True)
-        else:
-            todo.append((name, module))
-    if jobs == 1 or len(todo) <= 1:
-        for name, module in todo:
-            yield run_one(name, module, out_dir, keys[name])
-        return
-    with process_pool(min(jobs, len(todo)), [m for _, m in todo]) as pool:
-        futures = [pool.submit(run_one, n, m, out_dir, keys[n]) for n, m in todo]
-        for future in as_completed(futures):
-            yield future.result()
+    with folder_lock(out_dir):
+        keys = {name: cache_key(module) for name, module in chosen}
+        todo = []
+        for name, module in chosen:
+            hit = _cached(out_dir, name, keys[name]) if cache else None
+            if hit is not None:
+                yield Outcome(name, hit, 0.0, cached=True)
+            else:
+                todo.append((name, module))
+        shutil.rmtree(out_dir / ".work", ignore_errors=True)  # left by killed runs: we lock
+        for folder in (out_dir, out_dir / ".cache"):
+            remove_temporaries(folder)
+        work = out_dir / ".work" / f"{os.getpid()}-{secrets.token_hex(4)}"
+        try:
+            if jobs == 1 or len(todo) <= 1:
+                for name, module in todo:
+                    yield run_one(name, module, out_dir, keys[name], work)
+                return
+            with process_pool(min(jobs, len(todo)), [m for _, m in todo]) as pool:
+                futures = [pool.submit(run_one, n, m, out_dir, keys[n], work) for n, m in todo]
+                for future in as_completed(futures):
+                    yield future.result()
+        finally:
+            shutil.rmtree(work, ignore_errors=True)
+            with contextlib.suppress(OSError):
+                (out_dir / ".work").rmdir()  # when empty
 
 
 __all__ = ["Outcome", "cache_key", "run_one", "run_sections", "slug"]

@@ -7,6 +7,7 @@ from pathlib import Path
 from tqdm import tqdm
 
 from rcm_pin.errors import InvalidInputError
+from rcm_pin.processes import atomic_write, folder_lock
 from rcm_pin.report.runner import Outcome, run_sections
 from rcm_pin.report.sections import SECTIONS
 
@@ -46,6 +47,10 @@ def write_report(
 
     Returns:
         The report path.
+
+    Raises:
+        InvalidInputError: ``only`` matches no section, or ``jobs`` < 1.
+        FolderBusyError: another run holds the lock of ``out_dir`` (the run does not wait).
     """
     chosen = [(entry, m) for entry, m in SECTIONS if not only or any(w in entry for w in only)]
     if not chosen:
@@ -56,6 +61,13 @@ def write_report(
     if jobs is not None and jobs < 1:
         raise InvalidInputError(f"--jobs {jobs}; valid: >= 1")
     out_dir.mkdir(parents=True, exist_ok=True)
+    with folder_lock(out_dir):
+        return _write(out_dir, chosen, quiet, jobs, cache)
+
+
+def _write(
+    out_dir: Path, chosen: list[tuple[str, str]], quiet: bool, jobs: int | None, cache: bool
+) -> Path:
     outcomes: dict[str, Outcome] = {}
     with tqdm(total=len(chosen), disable=quiet, unit="section", desc="reproduce") as bar:
         for outcome in run_sections(chosen, out_dir, jobs, cache):
@@ -85,9 +97,7 @@ def write_report(
         )
         + "\n"
     )
-    path = out_dir / "report.md"
-    path.write_text("\n".join(parts))
-    return path
+    return atomic_write(out_dir / "report.md", "\n".join(parts).encode())
 
 
 __all__ = ["write_report"]
