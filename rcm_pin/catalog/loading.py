@@ -28,6 +28,7 @@ from collections.abc import Iterable
 from pathlib import Path
 from typing import Any
 
+from rcm_pin.catalog.options import LoadOptions
 from rcm_pin.catalog.table import CatalogEntry, family_named, get_entry
 from rcm_pin.errors import InvalidInputError, UnknownMechanismError, XacroArgumentError
 from rcm_pin.model.build import build_mechanism, is_path_like
@@ -35,7 +36,7 @@ from rcm_pin.model.laas_joints import replace_joints
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.meshes import resolve_meshes
 from rcm_pin.model.output_choice import parse_coords
-from rcm_pin.model.packages import PackageSearch, package_search
+from rcm_pin.model.packages import PackageSearch
 from rcm_pin.model.render import render_xacro, validate_args
 from rcm_pin.model.sidecar import Description, description_from_yaml, read_description
 
@@ -104,7 +105,7 @@ def load(
             "valid: one of them (they name the same frame)"
         )
     tool_frame = output_frame or tool_frame
-    where = _Where(dict(package_dirs or {}), tuple(mesh_dirs), bool(trusted))
+    where = LoadOptions(dict(package_dirs or {}), tuple(mesh_dirs), bool(trusted))
     # the build keywords a rebuild passes on: the RCM axis and the closed output's coordinates
     axis: dict[str, Any] = {
         k: v for k, v in (("rcm_axis_frame", rcm_axis_frame), ("rcm_axis", rcm_axis)) if v
@@ -118,31 +119,6 @@ def load(
     if is_path_like(name_or_path):
         return _load_path(Path(name_or_path), tool_frame, rcm_frame, xacro_args, where, axis)
     return _load_entry(get_entry(name_or_path), tool_frame, rcm_frame, xacro_args, where, axis)
-
-
-class _Where:
-    """The package and mesh folders and the trust of one load (passed on to ``rebuild``)."""
-
-    def __init__(
-        self,
-        package_dirs: dict[str, str | Path],
-        mesh_dirs: tuple[str | Path, ...],
-        trusted: bool = False,
-    ):
-        self.package_dirs, self.mesh_dirs, self.trusted = package_dirs, mesh_dirs, trusted
-
-    def search(self, near: Path) -> PackageSearch:
-        return package_search(self.package_dirs, near)
-
-    def meshes(self, urdf: str, source: Path | None, search: PackageSearch) -> str:
-        return resolve_meshes(urdf, source=source, search=search, mesh_dirs=self.mesh_dirs)
-
-    def keywords(self) -> dict[str, Any]:
-        return {
-            "package_dirs": self.package_dirs,
-            "mesh_dirs": self.mesh_dirs,
-            "trusted": self.trusted,
-        }
 
 
 def from_urdf(
@@ -180,7 +156,7 @@ def _load_entry(
     tool_frame: str | None,
     rcm_frame: str | None,
     xacro_args: dict[str, Any],
-    where: _Where,
+    where: LoadOptions,
     axis: dict[str, Any] | None = None,
 ) -> Mechanism:
     axis = axis or {}
@@ -253,7 +229,7 @@ def _load_path(
     tool_frame: str | None,
     rcm_frame: str | None,
     xacro_args: dict[str, Any],
-    where: _Where,
+    where: LoadOptions,
     axis: dict[str, Any] | None = None,
 ) -> Mechanism:
     axis = axis or {}

@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 
 from rcm_pin.catalog import load
-from rcm_pin.cli._folders import add_folder_options, folders_from_args
+from rcm_pin.cli._load_options import add_load_options, load_keywords
 from rcm_pin.errors import InvalidInputError, NotARotationError, XacroArgumentError
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import POSE
@@ -215,28 +215,10 @@ def exclusive(args: argparse.Namespace, *options: str) -> None:
 
 
 def load_mechanism(args: argparse.Namespace) -> Mechanism:
-    """The mechanism named on the command line, with its ``--arg`` xacro arguments,
-    ``--package-dir`` / ``--mesh-dir`` folders, ``--trusted`` and the frame options of
-    :func:`path_frames` (the keywords of :func:`rcm_pin.load`)."""
-    folders = folders_from_args(args)
-    trusted = bool(getattr(args, "trusted", False))
-    return load(
-        args.name, **path_frames(args), **folders, trusted=trusted, **parse_xacro_args(args.arg)
-    )
-
-
-def path_frames(args: argparse.Namespace) -> dict[str, str]:
-    """The ``--tool-frame`` / ``--rcm-frame`` / ``--rcm-axis-frame`` / ``--rcm-axis`` /
-    ``--output-frame`` / ``--output-coords`` given, as keywords of :func:`rcm_pin.load`."""
-    keys = (
-        "tool_frame",
-        "rcm_frame",
-        "rcm_axis_frame",
-        "rcm_axis",
-        "output_frame",
-        "output_coords",
-    )
-    return {k: getattr(args, k) for k in keys if getattr(args, k, None)}
+    """The mechanism named on the command line, with its ``--arg`` xacro arguments and the
+    options of :mod:`rcm_pin.cli._load_options` (frames, folders, ``--trusted``)."""
+    keywords: dict[str, Any] = {**load_keywords(args), **parse_xacro_args(args.arg)}
+    return load(args.name, **keywords)
 
 
 def add_common(parser: argparse.ArgumentParser, mechanism: bool = True) -> None:
@@ -249,34 +231,7 @@ def add_common(parser: argparse.ArgumentParser, mechanism: bool = True) -> None:
         parser.add_argument(
             "--arg", action="append", metavar="KEY=VALUE", help="xacro argument (repeatable)"
         )
-        parser.add_argument(
-            "--tool-frame", metavar="FRAME", help="a path's tool frame (if the file names none)"
-        )
-        parser.add_argument(
-            "--rcm-frame", metavar="FRAME", help="a path's remote-centre frame (optional)"
-        )
-        parser.add_argument(
-            "--rcm-axis-frame",
-            metavar="FRAME",
-            help="frame whose --rcm-axis is the shaft line through the RCM (default: the "
-            "file's, else the tool frame)",
-        )
-        parser.add_argument(
-            "--rcm-axis", metavar="AXIS", help="x, y or z: the shaft axis of --rcm-axis-frame (z)"
-        )
-        add_folder_options(parser)
-        parser.add_argument(
-            "--trusted",
-            action="store_true",
-            help="a .xacro path you vouch for: evaluate its expressions unchecked (default: "
-            "only the allow-list of SECURITY.md; a xacro file is code)",
-        )
-        parser.add_argument(
-            "--output-frame", metavar="FRAME", help="closed: output frame (as --tool-frame)"
-        )
-        parser.add_argument(
-            "--output-coords", metavar="'X Y ...'", help="closed: output coordinates, e.g. 'x y'"
-        )
+        add_load_options(parser)
     parser.add_argument("--json", action="store_true", help="print one JSON document")
 
 
