@@ -156,7 +156,7 @@ def test_ocp_ik_agrees_with_ik_and_honours_the_frame(name):
     frame, _ = OUTPUT[name]
     mech = rcm_pin.load(DATA / f"{name}.urdf", output_frame=frame)
     target = mech.output_value(mech.q_pin(mech.home))
-    out = ik_command(str(DATA / f"{name}.urdf"), pose=target, frames={"tool_frame": frame})
+    out = ik_command(rcm_pin.load(DATA / f"{name}.urdf", tool_frame=frame), pose=target)
     assert out["closure_residual"] < SOLVED
     np.testing.assert_allclose(list(out["output"].values()), target, atol=SOLVED)
     modes = rcm_pin.inverse(mech, target).solutions
