@@ -48,6 +48,8 @@ def corpus() -> list[Path]:
 
 def robot_id(path: Path) -> str:
     """A short test id: the URDF stem, with its package when the stem repeats."""
+    if not path.is_relative_to(robots_dir()):
+        return f"tests/data/{path.stem}"
     return f"{path.relative_to(robots_dir()).parts[0]}/{path.stem}"
 
 

@@ -14,6 +14,18 @@ sys.path.insert(0, str(Path(__file__).resolve().parent))
 import corpus
 
 ROBOTS = corpus.corpus()
+#: Our own fixtures for what example-robot-data lacks (each also has its own test module):
+#: continuous and continuous-mimic joints, a double parallelogram with a wrist, a robot
+#: without inertias (the ROS workspace and the LAAS sidecars: test_packages, test_laas_*).
+FIXTURES = [
+    Path(__file__).parent / "data" / name
+    for name in (
+        "continuous_joints.urdf",
+        "double_parallelogram_continuous.urdf",
+        "rcm_wrist_arm.urdf",
+        "no_inertia_arm.urdf",
+    )
+]
 
 #: The robots rcm-pin refuses, each with the words its refusal must contain (the reason).
 #: Every other robot must pass every check.
@@ -36,7 +48,7 @@ def test_the_corpus_is_installed():
     assert len(ROBOTS) >= 60, corpus.robots_dir()
 
 
-@pytest.mark.parametrize("path", ROBOTS, ids=corpus.robot_id)
+@pytest.mark.parametrize("path", ROBOTS + FIXTURES, ids=corpus.robot_id)
 @pytest.mark.parametrize("check", [corpus.check_fk, corpus.check_ik, corpus.check_cli_fk])
 def test_corpus(path, check):
     outcome = corpus.run(check, path)
