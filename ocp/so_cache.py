@@ -12,7 +12,7 @@ loaded before it is verified:
 * :func:`verify` says why an entry must not be used (missing, no sidecar, unreadable, a
   size or checksum that differs from the record), or None when it may be loaded;
 * :func:`usable` is the lookup of the callers: True for a verified entry; for a damaged
-  one a :class:`CacheWarning` (the caller rebuilds it, or falls back to the uncompiled
+  one (not merely unrecorded: :data:`NO_RECORD`) a :class:`CacheWarning` (the caller rebuilds it, or falls back to the uncompiled
   function when the folder is read-only).
 
 Two processes that publish the same entry at once leave either one's file and sidecar; a
@@ -33,6 +33,9 @@ from pathlib import Path
 
 #: Suffix of the checksum record beside an entry.
 SIDECAR = ".sha256"
+#: :func:`verify`'s reason for an entry without a record (an older version's, or one whose
+#: writer stopped between the two renames): rebuilt without a warning, like a miss.
+NO_RECORD = "it has no checksum record"
 
 
 class CacheWarning(UserWarning):
@@ -67,7 +70,7 @@ def verify(path: Path) -> str | None:
         record = json.loads(sidecar(path).read_text())
         want = (int(record["size"]), str(record["sha256"]))
     except FileNotFoundError:
-        return "it has no checksum record"
+        return NO_RECORD
     except (OSError, ValueError, KeyError, TypeError) as exc:
         return f"its checksum record is unreadable ({exc})"
     try:
@@ -87,7 +90,7 @@ def usable(path: Path) -> bool:
     why = verify(path)
     if why is None:
         return True
-    if why != "missing":
+    if why not in ("missing", NO_RECORD):  # no record: written by an older version
         warnings.warn(
             f"cache entry {path} is not used: {why}; rebuilding it", CacheWarning, stacklevel=3
         )
@@ -114,4 +117,13 @@ def publish(tmp: Path, path: Path) -> None:
         raise
 
 
-__all__ = ["SIDECAR", "CacheWarning", "checksum", "publish", "sidecar", "usable", "verify"]
+__all__ = [
+    "NO_RECORD",
+    "SIDECAR",
+    "CacheWarning",
+    "checksum",
+    "publish",
+    "sidecar",
+    "usable",
+    "verify",
+]

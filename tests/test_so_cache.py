@@ -95,7 +95,10 @@ def test_a_damaged_library_is_rebuilt_not_loaded(built, tmp_path, damage, why):
     assert so_cache.verify(lib) is not None
     out = _run(cache)
     assert not out["cached"] and out["path"] == str(lib)
-    assert any(w.startswith("CacheWarning") and why in w for w in out["warnings"]), out
+    if why == so_cache.NO_RECORD:  # an older version's entry: rebuilt like a miss
+        assert not out["warnings"], out
+    else:
+        assert any(w.startswith("CacheWarning") and why in w for w in out["warnings"]), out
     assert so_cache.verify(lib) is None  # rebuilt and recorded
     assert _run(cache)["cached"]
 
