@@ -12,8 +12,8 @@ loaded before it is verified:
 * :func:`verify` says why an entry must not be used (missing, no sidecar, unreadable, a
   size or checksum that differs from the record), or None when it may be loaded;
 * :func:`usable` is the lookup of the callers: True for a verified entry; for a damaged
-  one (not merely unrecorded: :data:`NO_RECORD`) a :class:`CacheWarning` (the caller rebuilds it, or falls back to the uncompiled
-  function when the folder is read-only).
+  one (not merely unrecorded: :data:`NO_RECORD`) a :class:`CacheWarning` (the caller
+  rebuilds it, or falls back to the uncompiled function when the folder is read-only).
 
 Two processes that publish the same entry at once leave either one's file and sidecar; a
 pair from different processes only differs if the compiler is not deterministic, and
