@@ -55,6 +55,10 @@ def _study(args: argparse.Namespace, sampler: str = "grid", samples: int = 0) ->
         from rcm_pin.errors import InvalidInputError
 
         raise InvalidInputError("--scheduler and --workers conflict; valid: one of them")
+    if args.scheduler:  # before any work: a non-Dask server must not reach distributed
+        from rcm_pin.design.scheduler import check_scheduler
+
+        check_scheduler(args.scheduler)
     return Study(
         args.name,
         tuple(parse_vary(v) for v in args.vary),
