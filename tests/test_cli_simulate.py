@@ -69,3 +69,38 @@ def test_simulate_errors(capsys, argv, message):
     assert rc == 2
     err = json.loads(capsys.readouterr().out)["error"]
     assert err["type"] == "InvalidInputError" and err["message"] == message
+
+
+def test_a_duration_over_the_time_budget_is_refused_after_a_probe(capsys):
+    """1e9 s of simulated time: the 1 s probe's integration time, scaled, is far over the
+    600 s budget; refused with the estimate and the longest run it allows."""
+    from rcm_pin.cli import simulate
+
+    rc = main(["simulate", "rcm_bevel", "--arg", "q3_upper=0.3", "--json", "--duration", "1e9"])
+    err = json.loads(capsys.readouterr().out)["error"]
+    assert rc == 2 and err["type"] == "InvalidInputError"
+    message = err["message"]
+    assert message.startswith("--duration 1e+09 s would take about ")
+    assert "s per simulated second, measured on a 1 s probe); valid: at most about " in message
+    assert message.endswith("s of simulated time for this run (a 600 s budget)")
+    assert simulate.FREE_DURATION < 1e9
+
+
+def test_a_duration_within_the_free_bound_runs_without_a_probe(capsys, monkeypatch):
+    from rcm_pin.cli import simulate
+
+    monkeypatch.setattr(simulate, "MAX_SECONDS", 0.0)  # any probe would refuse
+    rc = main(["simulate", "rcm_bevel", "--arg", "q3_upper=0.3", "--json", "--duration", "0.2"])
+    assert rc == 0 and json.loads(capsys.readouterr().out)["runs"][0]["duration"] > 0
+
+
+def test_simulation_options_bound_the_samples():
+    from rcm_pin.control import SimulationOptions
+    from rcm_pin.errors import InvalidInputError
+
+    with pytest.raises(InvalidInputError) as exc:
+        SimulationOptions(samples=10**9)
+    assert str(exc.value) == (
+        "samples 1000000000; valid: 2 to 1000000 (memory: the result keeps each of its arrays "
+        "per sample), or None for the solver's steps"
+    )
