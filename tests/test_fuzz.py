@@ -453,8 +453,8 @@ def fourbar_argv() -> st.SearchStrategy[list[str]]:
     have crank-rocker solutions (up, down 15-35 deg, coupler 0.07-0.09 m, rocker 0.05 m)."""
     wild = [_flag(f"--{k}", numbers()) for k in ("up", "down", "coupler", "rocker")]
     swing = st.floats(15.0, 35.0)
-    sane = [_flag("--up", swing), _flag("--down", swing),
-            _flag("--coupler", st.floats(0.07, 0.09)), _flag("--rocker", st.just(0.05))]  # fmt: skip
+    coupler, rocker = _flag("--coupler", st.floats(0.07, 0.09)), _flag("--rocker", st.just(0.05))
+    sane = [_flag("--up", swing), _flag("--down", swing), coupler, rocker]
     mixed = [st.one_of(a, b) for a, b in zip(sane, wild, strict=True)]
     lengths = st.one_of(numbers(), st.floats(0.04, 0.12))
     analyse = st.tuples(*(_flag(f"--{k}", lengths) for k in ("frame", "crank", "coupler",
