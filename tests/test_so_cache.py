@@ -160,3 +160,46 @@ def test_verify_and_publish(tmp_path):
     assert so_cache.verify(entry).startswith("its checksum record is unreadable")
     with pytest.warns(so_cache.CacheWarning, match="is not used: its checksum record"):
         assert not so_cache.usable(entry)
+
+
+# The closure kernel at its compile point (the 1000th solve by default; here the first).
+KERNEL = """
+import json, warnings
+import rcm_pin
+from ocp.kernels import CHUNK, provider
+from ocp.kernels.closure_kernel import ClosureNewtonKernel, SharedFunction
+mech = rcm_pin.load("five_bar")
+shared = provider.shared_function(mech)
+fresh = SharedFunction(provider.newton_function(mech, vm=True), shared.key, 1)
+kernel = ClosureNewtonKernel(fresh, CHUNK)
+home = mech.home
+with warnings.catch_warnings(record=True) as caught:
+    warnings.simplefilter("always")
+    out = kernel(home + 0.01, home[mech.loops.drive_q] + 0.02, max_iter=60, max_step=0.5)
+print(json.dumps({
+    "compiled": fresh.compiled, "q": out.q.tolist(),
+    "warnings": [f"{w.category.__name__}: {w.message}" for w in caught],
+}))
+"""
+
+
+def _kernel(cache: Path) -> dict:
+    env = {**os.environ, "RCM_PIN_CACHE": str(cache), "PYTHONPATH": str(ROOT)}
+    run = subprocess.run(
+        [sys.executable, "-c", KERNEL], capture_output=True, text=True, env=env, timeout=600
+    )
+    assert run.returncode == 0, f"exit {run.returncode} (-7: SIGBUS): {run.stderr[-2000:]}"
+    out: dict = json.loads(run.stdout.strip().splitlines()[-1])
+    return out
+
+
+def test_the_closure_kernel_rebuilds_a_truncated_library(tmp_path):
+    cache = tmp_path / "cache"
+    first = _kernel(cache)
+    assert first["compiled"] and not first["warnings"], first
+    (lib,) = cache.glob("closure_newton_*.so")
+    _truncate(lib)
+    again = _kernel(cache)
+    assert again["compiled"] and again["q"] == first["q"]
+    assert any(w.startswith("CacheWarning") for w in again["warnings"]), again
+    assert so_cache.verify(lib) is None
