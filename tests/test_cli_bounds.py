@@ -15,16 +15,16 @@ def _error(capsys, argv):
     return code, json.loads(capsys.readouterr().out)["error"]
 
 
-VARY = ["--vary", "q2_limit=0.6:1.4:100000", "--vary", "q3_lower=0.02:0.07:100000"]
+VARY = ["--vary", "q2_limit=0.6:1.4:1000", "--vary", "q3_lower=0.02:0.07:1000"]
 
 
 @pytest.mark.parametrize(
     ("argv", "message"),
     [
         (
-            ["sweep", "rcm_bevel", *VARY, "--vary", "q3_upper=0.1:0.2:4294967296"],
-            "42949672960000000000 designs would take about 7.16e+15 h on one core (about 0.6 s "
-            "a design); valid: at most 1000000 designs",
+            ["sweep", "rcm_bevel", *VARY, "--vary", "q3_upper=0.1:0.2:1000"],
+            "1000000000 designs would take about 1.67e+05 h on one core (about 0.6 s a design); "
+            "valid: at most 1000000 designs",
         ),
         (
             ["sweep", "rcm_bevel", "--vary", "q2_limit=0.6:1.4", "--sampler", "lhs",
@@ -38,7 +38,7 @@ VARY = ["--vary", "q2_limit=0.6:1.4:100000", "--vary", "q3_lower=0.02:0.07:10000
             "valid: at most 1000000 trials",
         ),
     ],
-    ids=["grid (exact product)", "lhs", "optimize"],
+    ids=["grid", "lhs", "optimize"],
 )  # fmt: skip
 def test_study_sizes_are_bounded(capsys, argv, message):
     code, error = _error(capsys, [*argv, "--metric", "cone_coverage"])
