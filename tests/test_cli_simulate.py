@@ -62,6 +62,17 @@ def test_simulate_list(capsys):
         (["--gains", "720"], "--gains has 1 values; valid: exactly 2"),
         (["--tau-zeta=-1,1"], "tau=-1.0, zeta=1.0 are invalid; valid: tau > 0 [s], zeta >= 0"),
         (["--duration", "-1"], "--duration -1.0 is invalid; valid: > 0 [s]"),
+        (
+            ["--gains", "1e300,1e300"],
+            "gains Kn=1e+300, Kc=1e+300 are too fast; valid: Kn <= 1e+08 [1/s^2], Kc <= 20000 "
+            "[1/s] (error dynamics faster than 10000 rad/s make the explicit integrator's steps "
+            "shorter than 0.1 ms; gains of 1e300 ran past two minutes for 0.05 s simulated)",
+        ),
+        (
+            ["--tau-zeta", "1e-300,1"],
+            "tau=1e-300 s is outside the valid range; valid: 0.0001 to 10000 s (a faster error "
+            "dynamics makes the integrator's steps shorter than 0.1 ms)",
+        ),
     ],
 )
 def test_simulate_errors(capsys, argv, message):

@@ -472,7 +472,8 @@ def _runs_long(v: Any) -> bool:
 
 
 def bounds_argv() -> st.SearchStrategy[list[str]]:
-    """vibrations --stiffness, simulate --duration and ocp track --n of every magnitude. The
+    """vibrations --stiffness, simulate --duration / --gains / --tau-zeta and ocp track --n
+    of every magnitude. The
     durations a budget allows past 0.05 s and the grids up to the memory bound are left
     out: each is a real run of seconds to minutes (the bound is what is fuzzed)."""
     stiffness = st.one_of(
@@ -486,8 +487,13 @@ def bounds_argv() -> st.SearchStrategy[list[str]]:
         st.floats(0.001, 0.05),
         numbers().filter(lambda v: not _runs_long(v)),
     )
-    sim = _flag("--duration", duration).map(
-        lambda d: ["simulate", "rcm_bevel", "--arg", "q3_upper=0.3", d, "--json"]
+    gains = st.one_of(
+        st.just([]),
+        st.lists(numbers(), min_size=2, max_size=2).map(lambda g: [f"--gains={_text(g)}"]),
+        st.lists(numbers(), min_size=2, max_size=2).map(lambda g: [f"--tau-zeta={_text(g)}"]),
+    )
+    sim = st.tuples(_flag("--duration", duration), gains).map(
+        lambda t: ["simulate", "rcm_bevel", "--arg", "q3_upper=0.3", t[0], *t[1], "--json"]
     )
     n = st.one_of(st.integers(-5, 6), st.integers(23_861, 10**12))
     track = n.map(lambda k: ["ocp", "track", f"--n={k}", "--json"])
@@ -517,7 +523,7 @@ def test_fourbar_fuzz(argv):
     assert check_fourbar(argv) in ("valid", "typed")
 
 
-@settings(BOUNDED, max_examples=12, deadline=20_000)
+@settings(BOUNDED, max_examples=20, deadline=20_000)
 @given(argv=bounds_argv())
 def test_bounds_fuzz(argv):
     assert check_cli(argv) in ("valid", "typed")
