@@ -293,13 +293,4 @@ def drive_limits(mech: Mechanism) -> np.ndarray:
     return np.asarray(mech.model.effortLimit)[idx].copy()
 
 
-__all__ = [
-    "MAX_RATE",
-    "MAX_TAU",
-    "SPACES",
-    "ComputedTorque",
-    "DriveSwitching",
-    "Effort",
-    "Gains",
-    "drive_limits",
-]
+__all__ = ["SPACES", "ComputedTorque", "DriveSwitching", "Effort", "Gains", "drive_limits"]
