@@ -7,12 +7,15 @@ inputs, outputs and sparsities:
 2. a key ``sha256(source, compiler, flags, casadi version, key)``; the library is
    ``<cache>/<name>_<key[:20]>.so`` with ``<cache>`` = ``$RCM_PIN_CACHE`` or the user cache
    directory (``$XDG_CACHE_HOME/rcm-pin/casadi``, default ``~/.cache/rcm-pin/casadi``);
-3. a hit loads it with ``casadi.external``; a miss compiles it with the system C compiler
-   (``$CC``, else ``gcc``/``cc``: ``<cc> <opt> -shared -fPIC``) to a temporary name in the
-   cache and moves it into place with ``os.replace`` (atomic: two processes never load a
-   half-written library; both may compile, the last rename wins, the files are equal).
+3. a hit loads it with ``casadi.external`` once its size and SHA-256 match the record
+   beside it (:mod:`ocp.so_cache`: a truncated library would kill the process with
+   SIGBUS); a miss, or a damaged entry (rebuilt with a :class:`~ocp.so_cache.CacheWarning`),
+   compiles it with the system C compiler (``$CC``, else ``gcc``/``cc``:
+   ``<cc> <opt> -shared -fPIC``) to a temporary name in the cache, moves it into place with
+   ``os.replace`` and records its checksum (:func:`ocp.so_cache.publish`).
 
-Without a C compiler (or when it fails) the original function is returned, a
+Without a C compiler (or when it fails), or with a cache folder that cannot be written
+(read-only, full) and no verified entry in it, the original function is returned, a
 :class:`CompileWarning` is issued and :attr:`Compiled.path` is ``None``: results are the
 same, only slower. :func:`compile_function` returns that diagnostic record;
 :data:`STATS` counts compilations and cache hits in this process (for tests).
@@ -38,6 +41,8 @@ from pathlib import Path
 from typing import NamedTuple
 
 import casadi as ca
+
+from ocp import so_cache
 
 #: Compilations (``"compiled"``), cache hits (``"hits"``) and fallbacks (``"fallbacks"``).
 STATS: Counter[str] = Counter()
@@ -128,20 +133,48 @@ def _get(
     ).hexdigest()[:20]
     folder = cache_dir()
     lib = folder / f"{name}_{digest}.so"
-    if lib.exists():
-        STATS["hits"] += 1
-        return Compiled(ca.external(name, str(lib)), lib, True, time.perf_counter() - start)
+    if so_cache.usable(lib):
+        loaded = _load(name, lib)
+        if loaded is not None:
+            STATS["hits"] += 1
+            return Compiled(loaded, lib, True, time.perf_counter() - start)
     fun, code = make()
-    folder.mkdir(parents=True, exist_ok=True)
-    with tempfile.TemporaryDirectory(dir=folder, prefix=".build_") as tmp:
-        src, out = Path(tmp) / f"{name}.c", Path(tmp) / "lib.so"
-        src.write_text(code)
-        run = subprocess.run([cc, *flags, str(src), "-o", str(out), "-lm"], capture_output=True)
-        if run.returncode != 0:
-            return _fallback(fun, start, f"{cc} failed: {run.stderr.decode()[-500:]}")
-        os.replace(out, lib)
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        with tempfile.TemporaryDirectory(dir=folder, prefix=".build_") as tmp:
+            src, out = Path(tmp) / f"{name}.c", Path(tmp) / "lib.so"
+            src.write_text(code)
+            failed = _compile(cc, [*flags, str(src), "-o", str(out), "-lm"])
+            if failed:
+                return _fallback(fun, start, failed)
+            so_cache.publish(out, lib)
+    except OSError as exc:  # a read-only (or full) cache folder: the VM serves
+        why = f"cache folder {folder} is not writable: {exc.strerror or exc}"
+        return _fallback(fun, start, why)
+    loaded = _load(name, lib) if so_cache.verify(lib) is None else None
+    if loaded is None:
+        return _fallback(fun, start, f"{lib} does not load")
     STATS["compiled"] += 1
-    return Compiled(ca.external(name, str(lib)), lib, False, time.perf_counter() - start)
+    return Compiled(loaded, lib, False, time.perf_counter() - start)
+
+
+def _compile(cc: str, args: list[str]) -> str | None:
+    """Run the C compiler; None on success, else why it failed."""
+    try:
+        run = subprocess.run([cc, *args], capture_output=True)
+    except OSError as exc:
+        return f"{cc} does not run: {exc}"
+    return None if run.returncode == 0 else f"{cc} failed: {run.stderr.decode()[-500:]}"
+
+
+def _load(name: str, lib: Path) -> ca.Function | None:
+    """``casadi.external`` of a verified library; None (with a warning) if it fails."""
+    try:
+        return ca.external(name, str(lib))
+    except RuntimeError as exc:
+        msg = f"cache entry {lib} does not load ({str(exc).strip()[-200:]}); rebuilding it"
+        warnings.warn(msg, so_cache.CacheWarning, stacklevel=4)
+        return None
 
 
 def _fallback(fun: ca.Function, start: float, why: str) -> Compiled:

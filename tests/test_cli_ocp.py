@@ -102,3 +102,24 @@ def test_track_compile_with_fatrop_is_refused_before_any_build(capsys):
         "'exact' | 'cost', compile and 'cost' with solver 'ipopt' only (fatrop "
         "differentiates the expanded NLP itself), compile without jit (it replaces it)"
     )
+
+
+@pytest.mark.parametrize("n", ["100000000", "23861"])
+def test_track_beyond_the_memory_bound_is_refused_before_any_build(capsys, n):
+    """The bound is the estimated memory (1 GiB at 1.5 kB per decision variable): 23 860
+    intervals of paper 000's 30 variables; 1e8 would need 4.5 TB (std::bad_alloc)."""
+    code = main(["ocp", "track", "--n", n, "--json"])
+    error = json.loads(capsys.readouterr().out)["error"]
+    assert code == 2 and error["type"] == "InvalidInputError"
+    assert error["message"].startswith(f"n_intervals {n} needs about ")
+    assert error["message"].endswith(
+        "GB of memory (45 kB per interval of 30 variables); valid: 1 to 23860 intervals (1 GiB)"
+    )
+
+
+def test_tracking_ocp_api_has_the_same_bound():
+    from ocp.tracking import TrackingOCP
+    from rcm_pin.errors import InvalidInputError
+
+    with pytest.raises(InvalidInputError, match=r"^n_intervals 100000000 needs about 4.5e\+03 GB"):
+        TrackingOCP(rcm_pin.load("rcm_bevel"), horizon=1.0, n_intervals=10**8)

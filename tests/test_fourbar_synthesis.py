@@ -184,6 +184,12 @@ def test_no_real_root_and_no_crank_rocker_are_unreachable():
         valid_or_raise(roots, math.radians(60), math.radians(60))
 
 
+RANGE = (
+    "valid: a length from 1e-06 to 1e+06 m (the equations square the lengths: larger values "
+    "overflow double precision)"
+)
+
+
 @pytest.mark.parametrize(
     ("args", "message"),
     [
@@ -191,7 +197,9 @@ def test_no_real_root_and_no_crank_rocker_are_unreachable():
          "above the frame line)"),
         ((0.1, -0.2, L2, L3), "up + down = -5.72958 deg; valid: a swing up + down > 0 deg"),
         ((0.1, float("nan"), L2, L3), "down = nan; valid: a finite number"),
-        ((0.1, 0.2, 0.0, L3), "coupler = 0 m; valid: a length > 0 m"),
+        ((0.1, 0.2, 0.0, L3), "coupler = 0 m; " + RANGE),
+        ((0.1, 0.2, L2, 1e300), "rocker = 1e+300 m; " + RANGE),
+        ((0.1, 0.2, L2, float("inf")), "rocker = inf; valid: a finite number"),
     ],
 )  # fmt: skip
 def test_bad_synthesis_input(args, message):
@@ -234,7 +242,17 @@ def test_cli_synthesize_and_analyse(capsys):
         (["synthesize", "--up", "-25", "--down", "15", "--coupler", "0.075", "--rocker", "0.05"],
          "InvalidInputError", "up + down = -10 deg; valid"),
         (["analyse", "--frame", "0", "--crank", "1", "--coupler", "1", "--rocker", "1"],
-         "InvalidInputError", "--frame 0; valid: a finite length > 0 [m]"),
+         "InvalidInputError", "--frame = 0 m; " + RANGE),
+        (["analyse", "--frame", "1e300", "--crank", "1", "--coupler", "1", "--rocker", "1"],
+         "InvalidInputError", "--frame = 1e+300 m; " + RANGE),
+        (["synthesize", "--up", "20", "--down", "20", "--coupler", "0.3", "--rocker", "1e300"],
+         "InvalidInputError", "rocker = 1e+300 m; " + RANGE),
+        (["synthesize", "--up", "20", "--down", "20", "--coupler", "1e300", "--rocker", "0.3"],
+         "InvalidInputError", "coupler = 1e+300 m; " + RANGE),
+        (["synthesize", "--up", "1e300", "--down", "20", "--coupler", "0.3", "--rocker", "0.3"],
+         "InvalidInputError", "up = 1e+300 deg; valid: |up| < 90 deg"),
+        (["synthesize", "--up", "20", "--down=-inf", "--coupler", "0.3", "--rocker", "0.3"],
+         "InvalidInputError", "down = -inf; valid: a finite number"),
         (["analyse", "--frame", "1", "--crank", "0.1", "--coupler", "0.2", "--rocker", "0.3"],
          "InvalidInputError", "links (1.0, 0.1, 0.2, 0.3) [m] cannot be assembled"),
         (["analyse", "--frame", "1"], "UsageError", "rcm-pin fourbar analyse: the following"),

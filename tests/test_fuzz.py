@@ -2,7 +2,9 @@
 
 Hypothesis strategies over every catalogue mechanism (:func:`rcm_pin.names`) for ``load``
 arguments, :func:`rcm_pin.forward` / :func:`rcm_pin.inverse` / :func:`rcm_pin.tool_pose`
-inputs and the CLI ``fk`` / ``ik`` / ``singularities`` / ``workspace`` arguments: numbers of
+inputs and the CLI ``fk`` / ``ik`` / ``singularities`` / ``workspace`` arguments (and
+``fourbar``, ``vibrations --stiffness``, ``simulate --duration``, ``ocp track --n``: the
+ranges and cost bounds of issue 26): numbers of
 every magnitude (1e300, -0.0, subnormals, NaN, inf), wrong lengths, strings, nested lists,
 non-rotations, poses far outside the workspace. Property (the ``check_*`` functions): either
 a valid result that a second route confirms, or an :class:`~rcm_pin.errors.RcmPinError`
@@ -439,3 +441,89 @@ def test_messages_of_the_fixed_inputs():
         rcm_pin.inverse(mech, np.r_[0.0, 0.0, -0.1, np.full(9, 1e200)])
     with pytest.raises(errors.InvalidInputError, match="is not numeric"):
         rcm_pin.inverse(mech, np.full((4, 4), "a"))
+
+
+# ------------------------------------------------ bounds and ranges (issue 26, item 7)
+def _flag(option: str, values: st.SearchStrategy[Any]) -> st.SearchStrategy[str]:
+    return values.map(lambda v: f"{option}={v!r}")
+
+
+def fourbar_argv() -> st.SearchStrategy[list[str]]:
+    """fourbar synthesize / analyse: lengths and angles of every magnitude, and swings that
+    have crank-rocker solutions (up, down 15-35 deg, coupler 0.07-0.09 m, rocker 0.05 m)."""
+    wild = [_flag(f"--{k}", numbers()) for k in ("up", "down", "coupler", "rocker")]
+    swing = st.floats(15.0, 35.0)
+    coupler, rocker = _flag("--coupler", st.floats(0.07, 0.09)), _flag("--rocker", st.just(0.05))
+    sane = [_flag("--up", swing), _flag("--down", swing), coupler, rocker]
+    mixed = [st.one_of(a, b) for a, b in zip(sane, wild, strict=True)]
+    lengths = st.one_of(numbers(), st.floats(0.04, 0.12))
+    analyse = st.tuples(*(_flag(f"--{k}", lengths) for k in ("frame", "crank", "coupler",
+                                                             "rocker")))  # fmt: skip
+    return st.one_of(
+        st.tuples(*sane).map(lambda t: ["fourbar", "synthesize", *t, "--json"]),
+        st.tuples(*mixed).map(lambda t: ["fourbar", "synthesize", *t, "--json"]),
+        analyse.map(lambda t: ["fourbar", "analyse", *t, "--json"]),
+    )
+
+
+def _runs_long(v: Any) -> bool:
+    """A duration that the budget lets run past 0.05 s (a positive integer included)."""
+    return (isinstance(v, float) and 0.05 < v < 1e5) or (isinstance(v, int) and v > 0)
+
+
+def bounds_argv() -> st.SearchStrategy[list[str]]:
+    """vibrations --stiffness, simulate --duration / --gains / --tau-zeta and ocp track --n
+    of every magnitude. The
+    durations a budget allows past 0.05 s and the grids up to the memory bound are left
+    out: each is a real run of seconds to minutes (the bound is what is fuzzed)."""
+    stiffness = st.one_of(
+        st.floats(1.0, 1e4), numbers(), st.lists(numbers(), min_size=1, max_size=4)
+    )
+    vib = st.tuples(stiffness.map(_text), st.booleans()).map(
+        lambda t: ["vibrations", "planar_3rrr", "--pose=0.02,0.01,0.1",
+                   f"--stiffness={t[0]}", *(["--check"] if t[1] else []), "--json"]
+    )  # fmt: skip
+    duration = st.one_of(
+        st.floats(0.001, 0.05),
+        numbers().filter(lambda v: not _runs_long(v)),
+    )
+    gains = st.one_of(
+        st.just([]),
+        st.lists(numbers(), min_size=2, max_size=2).map(lambda g: [f"--gains={_text(g)}"]),
+        st.lists(numbers(), min_size=2, max_size=2).map(lambda g: [f"--tau-zeta={_text(g)}"]),
+    )
+    sim = st.tuples(_flag("--duration", duration), gains).map(
+        lambda t: ["simulate", "rcm_bevel", "--arg", "q3_upper=0.3", t[0], *t[1], "--json"]
+    )
+    n = st.one_of(st.integers(-5, 6), st.integers(23_861, 10**12))
+    track = n.map(lambda k: ["ocp", "track", f"--n={k}", "--json"])
+    return st.one_of(vib, sim, track)
+
+
+def check_fourbar(argv: list[str]) -> str:
+    """:func:`check_cli`, and each crank-rocker of ``synthesize`` (the library's roots for
+    the same numbers) meets both dead-centre equations: residuals <= 1e-9 (l2 + l3)² [m²]."""
+    outcome = check_cli(argv)
+    if outcome == "valid" and argv[1] == "synthesize":
+        from rcm_pin.linkage.synthesis import synthesize
+
+        v = {a.partition("=")[0][2:]: float(a.partition("=")[2]) for a in argv[2:6]}
+        up, down = math.radians(v["up"]), math.radians(v["down"])
+        scale = (v["coupler"] + v["rocker"]) ** 2
+        valid = [r for r in synthesize(up, down, v["coupler"], v["rocker"]) if r.valid]
+        assert valid
+        for r in valid:
+            assert max(abs(r.residual_up), abs(r.residual_down)) <= 1e-9 * scale
+    return outcome
+
+
+@settings(BOUNDED, max_examples=25)
+@given(argv=fourbar_argv())
+def test_fourbar_fuzz(argv):
+    assert check_fourbar(argv) in ("valid", "typed")
+
+
+@settings(BOUNDED, max_examples=20, deadline=20_000)
+@given(argv=bounds_argv())
+def test_bounds_fuzz(argv):
+    assert check_cli(argv) in ("valid", "typed")

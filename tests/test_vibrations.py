@@ -15,6 +15,7 @@ from rcm_pin.analysis.position import forward
 from rcm_pin.cli import main
 from rcm_pin.dynamics.tree import mass_matrix_pin
 from rcm_pin.dynamics.vibrations import (
+    STIFFNESS_RANGE,
     linearised_frequencies,
     natural_frequencies,
     stiffness_vector,
@@ -103,7 +104,11 @@ def test_stiffness_errors():
     assert str(e.value) == "stiffness has 2 values; valid: 1 or 3 (one per drive of planar_3rrr)"
     with pytest.raises(InvalidInputError) as e:
         stiffness_vector(mech, [1.0, -2.0, 3.0])
-    assert str(e.value) == "stiffness [1.0, -2.0, 3.0] is invalid; valid: finite and > 0"
+    assert str(e.value) == (
+        "stiffness [1.0, -2.0, 3.0] is outside the valid range; valid: 0.001 to 1e+10 "
+        "[N·m/rad, N/m] (above, the spring efforts of the linearisation step exceed the 1e6 "
+        "effort bound; below, the modes are too slow to separate from the closure stabilisation)"
+    )
 
 
 def _json(capsys, argv):
@@ -160,6 +165,26 @@ def test_cli_rotation_output_and_errors(capsys):
     assert out["error"]["message"] == (
         "vibrations needs a closed mechanism (drives as springs); rcm_bevel is serial"
     )
+
+
+@pytest.mark.parametrize("check", [[], ["--check"]])
+@pytest.mark.parametrize("c", ["1e300", "1e11", "1e-4", "1,1e300,1"])
+def test_cli_stiffness_out_of_range_exits_2(capsys, check, c):
+    argv = ["vibrations", "planar_3rrr", "--pose", "0.02,0.01,0.1", f"--stiffness={c}", *check]
+    code, out = _json(capsys, argv)
+    assert code == 2 and out["error"]["type"] == "InvalidInputError"
+    assert (
+        "is outside the valid range; valid: 0.001 to 1e+10 [N·m/rad, N/m]"
+        in (out["error"]["message"])
+    )
+
+
+def test_the_ends_of_the_stiffness_range_pass_both_routes():
+    mech = rcm_pin.load("planar_3rrr")
+    q = random_poses(mech, 1, 3)[0]
+    for c in STIFFNESS_RANGE:
+        w = natural_frequencies(mech, q, c).frequencies
+        np.testing.assert_allclose(linearised_frequencies(mech, q, c), w, rtol=1e-3)
 
 
 def test_type2_pose_has_no_spring_frequencies():

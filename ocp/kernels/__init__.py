@@ -43,24 +43,26 @@ VM_ENV = "RCM_PIN_KERNEL_VM"
 def vm_function(mech: Mechanism, key: str) -> ca.Function:
     """The SX Newton function of ``mech`` (key: its :func:`structure_key`), from the disk
     cache of :func:`ocp.compiled.cache_dir` (a serialised ``casadi.Function``, loaded in
-    milliseconds where building the graph takes 0.05–0.3 s), else built and saved there
-    (written to a temporary name and renamed: atomic)."""
+    milliseconds where building the graph takes 0.05–0.3 s) once its size and checksum
+    match their record (:mod:`ocp.so_cache`), else built and saved there (a temporary name,
+    renamed; a read-only cache keeps the built function)."""
+    from ocp import so_cache
     from ocp.compiled import cache_dir
 
     name = f"closure_newton_{key[:12]}"
     digest = hashlib.sha256(f"{key}|{ca.__version__}".encode()).hexdigest()[:20]  # type: ignore[attr-defined]
     path = cache_dir() / f"{name}_{digest}.casadi"
-    if path.exists():
+    if so_cache.usable(path):
         try:
             return ca.Function.load(str(path))
-        except RuntimeError:  # a damaged file: build again and replace it
+        except RuntimeError:  # verified yet not loadable (another CasADi): build again
             pass
     fun = build(mech, CHUNK, name)
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
         fun.save(str(tmp))
-        os.replace(tmp, path)
+        so_cache.publish(tmp, path)
     except (OSError, RuntimeError):  # a read-only cache: the function is still good
         pass
     return fun

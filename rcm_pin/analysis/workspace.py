@@ -32,8 +32,10 @@ MAX_NEWTON_SAMPLES = 50_000
 MAX_SECONDS = 30.0
 #: Fewest samples of a volume estimate (the CLI's lower bound for ``--samples``).
 MIN_SAMPLES = 1000
-#: Newton samples timed before a numeric closed-loop run is committed to.
-PROBE = 5
+#: Newton samples timed before a numeric closed-loop run is committed to, after one
+#: untimed warm-up sample (the first solve builds or loads the mechanism's kernel: timing
+#: it, as five samples did, projected 15x the actual cost).
+PROBE = 40
 #: Largest grid side of a family's workspace grid (n × n cells, several per orientation).
 MAX_GRID = 1001
 
@@ -133,9 +135,10 @@ class NumericWorkspace(WorkspaceModel):
         inputs = sample_joints(mech, samples, seed)
         probe = np.empty((0, 3))
         if mech.loops is not None:  # measure the cost of a Newton sample before committing
+            warm = output_points(mech, inputs[:1])
             start = time.perf_counter()
-            probe = output_points(mech, inputs[:PROBE])
-            projected = (time.perf_counter() - start) / len(probe) * samples
+            probe = np.vstack([warm, output_points(mech, inputs[1 : 1 + PROBE])])
+            projected = (time.perf_counter() - start) / max(len(probe) - 1, 1) * samples
             if projected > MAX_SECONDS:
                 affordable = int(samples * MAX_SECONDS / projected)
                 hint = (

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import contextlib
 import io
+import math
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -58,9 +59,16 @@ def _study(args: argparse.Namespace, sampler: str = "grid", samples: int = 0) ->
         from rcm_pin.errors import InvalidInputError
 
         raise InvalidInputError("--scheduler and --workers conflict; valid: one of them")
+    if args.scheduler:  # before any work: a non-Dask server must not reach distributed
+        from rcm_pin.design.scheduler import check_scheduler
+
+        check_scheduler(args.scheduler)
+    varies = tuple(parse_vary(v) for v in args.vary)
+    if sampler != "grid" or all(v.n <= 1000 for v in varies):  # else: the per-argument bound
+        check_size(math.prod(v.n for v in varies) if sampler == "grid" else samples, "designs")
     return Study(
         args.name,
-        tuple(parse_vary(v) for v in args.vary),
+        varies,
         tuple(args.metric),
         fixed=tuple(sorted(parse_xacro_args(args.arg).items())),
         constraints=tuple(parse_constraint(c) for c in args.constraint),
@@ -68,6 +76,29 @@ def _study(args: argparse.Namespace, sampler: str = "grid", samples: int = 0) ->
         samples=samples,
         seed=args.seed,
     )
+
+
+#: Wall time of one design on one core [s] (execute's docstring: 0.4-0.8 s, mostly the
+#: rendering of its xacro).
+SECONDS_PER_DESIGN = 0.6
+
+
+def check_size(count: int, what: str) -> None:
+    """Refuse more designs than :data:`rcm_pin.design.study.MAX_DESIGNS` while parsing
+    (exact integers: a grid's product never wraps around).
+
+    Raises:
+        InvalidInputError: the count, its time estimate and the bound.
+    """
+    from rcm_pin.design.study import MAX_DESIGNS
+    from rcm_pin.errors import InvalidInputError
+
+    if count > MAX_DESIGNS:
+        hours = count * SECONDS_PER_DESIGN / 3600
+        raise InvalidInputError(
+            f"{count} {what} would take about {hours:.3g} h on one core (about "
+            f"{SECONDS_PER_DESIGN:g} s a design); valid: at most {MAX_DESIGNS} {what}"
+        )
 
 
 def _records(frame: Any) -> list[dict[str, Any]]:
@@ -113,6 +144,7 @@ def cmd_optimize(args: argparse.Namespace) -> int:
     out = output_path(args.out, "--out", directory=True) if args.out else None
     if out is not None:
         require("design", "pyarrow")  # the table is written after the search: check first
+    check_size(args.trials, "trials")
     study = _study(args)
     with folder_lock(out) if out is not None else contextlib.nullcontext():  # one run per --out
         res = optimize(

@@ -14,7 +14,7 @@ from typing import Any
 from rcm_pin.cli._common import add_common, emit
 from rcm_pin.errors import InvalidInputError
 from rcm_pin.linkage.fourbar import FourBar, Performance, performance
-from rcm_pin.linkage.synthesis import synthesize, valid_or_raise
+from rcm_pin.linkage.synthesis import check_length, synthesize, valid_or_raise
 
 #: Length options of ``analyse`` (FourBar field order).
 LENGTHS = ("frame", "crank", "coupler", "rocker")
@@ -116,8 +116,7 @@ def cmd_analyse(args: argparse.Namespace) -> int:
     """``rcm-pin fourbar analyse``: the figures of given link lengths."""
     values = [getattr(args, name) for name in LENGTHS]
     for name, v in zip(LENGTHS, values, strict=True):
-        if not (math.isfinite(v) and v > 0.0):
-            raise InvalidInputError(f"--{name} {v:g}; valid: a finite length > 0 [m]")
+        check_length(f"--{name}", v)
     g = FourBar(*values)
     if not g.assemblable:
         raise InvalidInputError(

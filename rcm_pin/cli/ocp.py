@@ -55,7 +55,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     tr = ocp_sub.add_parser("track", help="paper 000 tracking OCP (direct collocation)")
     # default None: ocp.paper000.MECHANISM, read in cmd_track (importing ocp loads CasADi)
     tr.add_argument("name", nargs="?", default=None, metavar="NAME")
-    tr.add_argument("--n", type=int, default=100, help="collocation intervals (default 100)")
+    tr.add_argument(
+        "--n",
+        type=int,
+        default=100,
+        help="collocation intervals (default 100; at most 23860 for paper 000's model: about "
+        "1 GiB of memory, ocp.tracking.check_size)",
+    )
     tr.add_argument("--solver", default="ipopt", choices=("ipopt", "fatrop"))
     tr.add_argument(
         "--limit-scale",

@@ -53,7 +53,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     gains = p.add_mutually_exclusive_group()
     gains.add_argument("--gains", help="Kn,Kc [1/s^2, 1/s]")
     gains.add_argument("--tau-zeta", help="tau,zeta of tau^2 e'' + 2 zeta tau e' + e = 0 [s, -]")
-    p.add_argument("--duration", type=float, help="simulated time [s]")
+    p.add_argument(
+        "--duration",
+        type=float,
+        help="simulated time [s]; beyond 60 s a 1 s probe estimates the wall time and a run "
+        "over 600 s is refused",
+    )
     p.add_argument("--space", choices=("task", "joint"), default="task")
     p.add_argument("--no-feedforward", action="store_true", help="drop the reference acceleration")
     p.add_argument("--printed-sign", action="store_true", help="paper 000's printed Kn(x - x_t)")
@@ -123,6 +128,37 @@ def _scenario(mech: Mechanism, args: argparse.Namespace) -> tuple[str, Scenario]
     return name, sc
 
 
+#: Simulated time [s] up to which a run starts without a cost estimate.
+FREE_DURATION = 60.0
+#: Simulated time [s] of the probe that measures the cost of a longer run.
+PROBE_DURATION = 1.0
+#: Longest estimated run [s of wall time] that ``simulate`` starts.
+MAX_SECONDS = 600.0
+
+
+def check_cost(mech: Mechanism, sc: Scenario, **options: Any) -> None:
+    """Refuse a run longer than :data:`FREE_DURATION` whose wall time, estimated from a
+    :data:`PROBE_DURATION` probe of the same scenario, exceeds :data:`MAX_SECONDS`.
+
+    Raises:
+        InvalidInputError: the estimate is over the budget (message: estimate, bound).
+    """
+    from rcm_pin.control.scenario import run
+
+    if sc.duration <= FREE_DURATION:
+        return
+    probe = run(mech, replace(sc, duration=PROBE_DURATION), **options)
+    # the integration's own wall time (the set-up is paid once, not per simulated second)
+    rate = probe.wall_time / max(float(probe.t[-1]), 1e-3)
+    if rate * sc.duration > MAX_SECONDS:
+        raise InvalidInputError(
+            f"--duration {sc.duration:g} s would take about {rate * sc.duration:.3g} s "
+            f"({rate:.3g} s per simulated second, measured on a {PROBE_DURATION:g} s probe); "
+            f"valid: at most about {MAX_SECONDS / rate:.4g} s of simulated time for this run "
+            f"(a {MAX_SECONDS:g} s budget)"
+        )
+
+
 def _summary(mech: Mechanism, label: str, res: SimulationResult, sc: Scenario) -> dict[str, Any]:
     from rcm_pin.control.linear import error_response
 
@@ -179,6 +215,8 @@ def cmd_simulate(args: argparse.Namespace) -> int:
             ),
         ]
     allow, backend = args.allow_outside_limits, args.backend
+    for _, s in plans:
+        check_cost(mech, s, allow_outside_limits=allow, backend=backend, **law)
     runs = [
         (label, s, run(mech, s, allow_outside_limits=allow, backend=backend, **law))
         for label, s in plans

@@ -49,6 +49,13 @@ if TYPE_CHECKING:
 SPACES = ("task", "joint")
 
 
+#: Fastest error dynamics accepted [rad/s]: K_n <= MAX_RATE², K_c <= 2 MAX_RATE (gains of
+#: 1e300 made the explicit integrator step at ~1e-150 s: past two minutes for 0.05 s).
+MAX_RATE = 1e4
+#: Slowest time constant τ accepted by :meth:`Gains.from_tau_zeta` [s].
+MAX_TAU = 1e4
+
+
 @dataclass(frozen=True)
 class Gains:
     """Feedback gains of the error dynamics ë + K_c ė + K_n e = 0.
@@ -56,6 +63,9 @@ class Gains:
     Attributes:
         kn: position gain K_n [1/s²].
         kc: velocity gain K_c [1/s].
+
+    Raises:
+        InvalidInputError: K_n ≤ 0, K_c < 0, not finite, or faster than :data:`MAX_RATE`.
     """
 
     kn: float
@@ -66,17 +76,31 @@ class Gains:
             raise InvalidInputError(
                 f"gains Kn={self.kn}, Kc={self.kc} are invalid; valid: Kn > 0, Kc >= 0"
             )
+        if self.kn > MAX_RATE**2 or self.kc > 2.0 * MAX_RATE:
+            raise InvalidInputError(
+                f"gains Kn={self.kn:g}, Kc={self.kc:g} are too fast; valid: Kn <= "
+                f"{MAX_RATE**2:g} [1/s^2], Kc <= {2 * MAX_RATE:g} [1/s] (error dynamics faster "
+                f"than {MAX_RATE:g} rad/s make the explicit integrator's steps shorter than "
+                "0.1 ms; gains of 1e300 ran past two minutes for 0.05 s simulated)"
+            )
 
     @classmethod
     def from_tau_zeta(cls, tau: float, zeta: float) -> Gains:
         """Gains of τ² Δ̈ + 2ζτ Δ̇ + Δ = 0 (paper 004): K_n = 1/τ², K_c = 2ζ/τ.
 
         Raises:
-            InvalidInputError: τ ≤ 0 or ζ < 0.
+            InvalidInputError: τ ≤ 0, ζ < 0, τ outside 1/:data:`MAX_RATE` to
+                :data:`MAX_TAU`, or gains over the bounds of :class:`Gains`.
         """
         if not (np.isfinite(tau) and np.isfinite(zeta) and tau > 0 and zeta >= 0):
             raise InvalidInputError(
                 f"tau={tau}, zeta={zeta} are invalid; valid: tau > 0 [s], zeta >= 0"
+            )
+        if not 1.0 / MAX_RATE <= tau <= MAX_TAU:
+            raise InvalidInputError(
+                f"tau={tau:g} s is outside the valid range; valid: {1.0 / MAX_RATE:g} to "
+                f"{MAX_TAU:g} s (a faster error dynamics makes the integrator's steps shorter "
+                "than 0.1 ms)"
             )
         return cls(kn=1.0 / tau**2, kc=2.0 * zeta / tau)
 

@@ -9,6 +9,10 @@ import numpy as np
 
 from rcm_pin.control.backends import check_backend
 from rcm_pin.control.capabilities import StopCondition
+from rcm_pin.errors import InvalidInputError
+
+#: Most output samples of a run (memory: the result keeps each of its arrays per sample).
+MAX_SAMPLES = 1_000_000
 
 
 @dataclass(frozen=True)
@@ -34,7 +38,8 @@ class SimulationOptions:
 
     Raises:
         InvalidInputError: an unknown backend (whether ``"compiled"`` covers a plant and
-            controller is checked by ``simulate``).
+            controller is checked by ``simulate``), or ``samples`` outside 2 to
+            :data:`MAX_SAMPLES`.
     """
 
     samples: int | None = 1001
@@ -51,6 +56,11 @@ class SimulationOptions:
 
     def __post_init__(self) -> None:
         check_backend(self.backend)
+        if self.samples is not None and not 2 <= self.samples <= MAX_SAMPLES:
+            raise InvalidInputError(
+                f"samples {self.samples}; valid: 2 to {MAX_SAMPLES} (memory: the result keeps "
+                "each of its arrays per sample), or None for the solver's steps"
+            )
 
 
-__all__ = ["SimulationOptions"]
+__all__ = ["MAX_SAMPLES", "SimulationOptions"]

@@ -37,6 +37,7 @@ from tqdm import tqdm
 
 from rcm_pin.design import store
 from rcm_pin.design.evaluate import evaluate_chunk, model_hash
+from rcm_pin.design.scheduler import check_scheduler
 from rcm_pin.design.study import Design, Study, designs, validate
 from rcm_pin.errors import ComputationLostError, InvalidInputError, require
 from rcm_pin.processes import folder_lock, process_pool, remove_temporaries
@@ -109,6 +110,7 @@ def _dask(
     distributed = require("design", "distributed")
     Client, dask_completed = distributed.Client, distributed.as_completed
 
+    check_scheduler(scheduler)  # a non-Dask server: a typed error, not a huge allocation
     try:
         client = Client(scheduler, timeout=CONNECT_TIMEOUT, set_as_default=False)
     except (OSError, TimeoutError, ValueError) as exc:

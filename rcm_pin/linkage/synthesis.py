@@ -34,6 +34,10 @@ import numpy as np
 from rcm_pin.errors import InvalidInputError, UnreachablePoseError
 from rcm_pin.linkage.fourbar import FourBar, Performance, performance
 
+#: Link lengths accepted [m]: a micrometre to a thousand kilometres. The equations square
+#: the lengths and their ratios; within this range every term stays far inside double
+#: precision (1e300 overflows: 1e300² > 1.8e308).
+LENGTH_RANGE = (1e-6, 1e6)
 #: Layout names of a root (sign of d).
 LAYOUTS = ("O1 on the up side", "O1 on the down side")
 
@@ -98,7 +102,8 @@ def real_roots(a: float, b: float, c: float) -> list[float]:
 
 def check_inputs(up: float, down: float, coupler: float, rocker: float) -> None:
     """Raises:
-    InvalidInputError: a non-finite value, |φ| or |γ| ≥ π/2, φ + γ ≤ 0, or a length ≤ 0.
+    InvalidInputError: a non-finite value, |φ| or |γ| ≥ π/2, φ + γ ≤ 0, or a length
+        outside :data:`LENGTH_RANGE`.
     """
     values = {"up": up, "down": down, "coupler": coupler, "rocker": rocker}
     for name, v in values.items():
@@ -115,8 +120,19 @@ def check_inputs(up: float, down: float, coupler: float, rocker: float) -> None:
             f"up + down = {math.degrees(up + down):.6g} deg; valid: a swing up + down > 0 deg"
         )
     for name in ("coupler", "rocker"):
-        if values[name] <= 0.0:
-            raise InvalidInputError(f"{name} = {values[name]:.6g} m; valid: a length > 0 m")
+        check_length(name, values[name])
+
+
+def check_length(name: str, value: float) -> None:
+    """Raises:
+    InvalidInputError: ``value`` [m] is not a finite length within :data:`LENGTH_RANGE`.
+    """
+    lo, hi = LENGTH_RANGE
+    if not (math.isfinite(value) and lo <= value <= hi):
+        raise InvalidInputError(
+            f"{name} = {value:.6g} m; valid: a length from {lo:g} to {hi:g} m (the "
+            "equations square the lengths: larger values overflow double precision)"
+        )
 
 
 def _root(up: float, down: float, coupler: float, rocker: float, d: float, k: float) -> Root:
@@ -183,8 +199,10 @@ def valid_or_raise(roots: list[Root], up: float, down: float) -> list[Root]:
 
 __all__ = [
     "LAYOUTS",
+    "LENGTH_RANGE",
     "Root",
     "check_inputs",
+    "check_length",
     "extreme_residuals",
     "quadratic",
     "real_roots",

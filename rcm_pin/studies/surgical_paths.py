@@ -29,6 +29,8 @@ from rcm_pin.errors import InvalidInputError
 PATHS = ("circle", "spiral", "arc")
 #: Default duration of each path [s].
 DURATIONS = {"circle": 4.0, "spiral": 6.0, "arc": 3.0}
+#: Most control steps of a path (rate × duration): time and memory, see surgical_path.
+MAX_STEPS = 100_000
 
 
 @dataclass(frozen=True)
@@ -138,8 +140,8 @@ def surgical_path(
     ``duration`` shorter than the path's own time stops the path early (same speeds).
 
     Raises:
-        InvalidInputError: unknown path, a rate or duration that is not positive, or a
-            path that leaves the cone.
+        InvalidInputError: unknown path, a rate or duration that is not positive, more
+            than :data:`MAX_STEPS` steps, or a path that leaves the cone.
     """
     if name not in PATHS:
         raise InvalidInputError(f"unknown path {name!r}; valid: {', '.join(PATHS)}")
@@ -152,6 +154,12 @@ def surgical_path(
             f"duration must lie in (0, {total:g}] s for {name}; got {duration!r}"
         )
     n = max(1, round(T * rate))
+    if n > MAX_STEPS:
+        raise InvalidInputError(
+            f"rate {rate:g} Hz over {T:g} s is {n} control steps; valid: at most {MAX_STEPS} "
+            "(measured on panda: about 0.5 ms and 4 kB per step with its JSON output, so "
+            f"{MAX_STEPS} steps take about a minute and 400 MB); lower the rate or the duration"
+        )
     t = np.arange(n + 1) / rate
     z_mid = 0.5 * (cone.depth[0] + cone.depth[1])
     p = cone.to_world(local_path(name, min_jerk(t / total), z_mid))
@@ -159,4 +167,13 @@ def surgical_path(
     return SurgicalPath(name, t, p, cone)
 
 
-__all__ = ["DURATIONS", "PATHS", "Cone", "SurgicalPath", "local_path", "min_jerk", "surgical_path"]
+__all__ = [
+    "DURATIONS",
+    "MAX_STEPS",
+    "PATHS",
+    "Cone",
+    "SurgicalPath",
+    "local_path",
+    "min_jerk",
+    "surgical_path",
+]
