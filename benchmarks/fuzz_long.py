@@ -31,6 +31,7 @@ from hypothesis import strategies as st
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 import test_fuzz as fz
+import test_xacro_safety as xs
 
 
 class HangError(Exception):
@@ -87,7 +88,36 @@ def _entry_points() -> dict[str, tuple[st.SearchStrategy[Any], Callable[[Any], s
         **{f"cli_{c}": (cli(c), fz.check_cli) for c in ("fk", "singularities", "workspace")},
         "cli_ik": (cli("ik", quick), fz.check_cli),
         "cli_ik_arms": (cli("ik", arms), fz.check_cli),
+        "cli_fourbar": (fz.fourbar_argv(), fz.check_fourbar),
+        "cli_bounds": (fz.bounds_argv(), fz.check_cli),
+        "xacro_allowed": (xs.ALLOWED_EXPR, _check_allowed),
+        "xacro_forbidden": (
+            st.tuples(st.sampled_from(xs.FORBIDDEN), xs.ALLOWED_EXPR),
+            _check_forbidden,
+        ),
     }
+
+
+def _check_allowed(expr: str) -> str:
+    """An allowed expression passes the allow-list ("valid"): a refusal is wrong."""
+    from rcm_pin.model.xacro_safety import expression_problem
+
+    problem = expression_problem(expr)
+    assert problem is None, f"{expr!r} refused: {problem}"
+    return "valid"
+
+
+def _check_forbidden(case: tuple[str, str]) -> str:
+    """A forbidden form around any expression is refused with UntrustedXacroError ("typed")."""
+    from rcm_pin.errors import UntrustedXacroError
+    from rcm_pin.model.xacro_safety import check_text
+
+    expr = case[0].format(case[1])
+    try:
+        check_text(f"x ${{{expr}}} y", "f.xacro", 7)
+    except UntrustedXacroError:
+        return "typed"
+    raise AssertionError(f"{expr!r} passed the allow-list")
 
 
 def run(
