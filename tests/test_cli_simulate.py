@@ -61,7 +61,8 @@ def test_simulate_list(capsys):
     [
         (["--gains", "720"], "--gains has 1 values; valid: exactly 2"),
         (["--tau-zeta=-1,1"], "tau=-1.0, zeta=1.0 are invalid; valid: tau > 0 [s], zeta >= 0"),
-        (["--duration", "-1"], "--duration -1.0 is invalid; valid: > 0 [s]"),
+        (["--duration", "-1"], "--duration -1.0 is invalid; valid: >= 1e-09 [s]"),
+        (["--duration", "5e-324"], "--duration 5e-324 is invalid; valid: >= 1e-09 [s]"),
         (
             ["--gains", "1e300,1e300"],
             "gains Kn=1e+300, Kc=1e+300 are too fast; valid: Kn <= 1e+08 [1/s^2], Kc <= 20000 "

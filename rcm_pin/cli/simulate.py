@@ -94,6 +94,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 def _scenario(mech: Mechanism, args: argparse.Namespace) -> tuple[str, Scenario]:
     from rcm_pin.control.computed_torque import Gains
     from rcm_pin.control.scenario import scenarios
+    from rcm_pin.control.simulate import MIN_DURATION
 
     table = scenarios(mech)
     name = args.scenario or next(iter(table))
@@ -109,8 +110,10 @@ def _scenario(mech: Mechanism, args: argparse.Namespace) -> tuple[str, Scenario]
         tau, zeta = parse_vector(args.tau_zeta, "tau-zeta", 2)
         sc = replace(sc, gains=Gains.from_tau_zeta(float(tau), float(zeta)))
     if args.duration is not None:
-        if not (np.isfinite(args.duration) and args.duration > 0):
-            raise InvalidInputError(f"--duration {args.duration} is invalid; valid: > 0 [s]")
+        if not (np.isfinite(args.duration) and args.duration >= MIN_DURATION):
+            raise InvalidInputError(
+                f"--duration {args.duration} is invalid; valid: >= {MIN_DURATION:g} [s]"
+            )
         sc = replace(sc, duration=args.duration)
     if args.tau_max is not None:
         if not (np.isfinite(args.tau_max) and args.tau_max > 0):

@@ -53,6 +53,9 @@ Accel = Callable[[np.ndarray, np.ndarray, np.ndarray], np.ndarray]
 
 #: The default options (a frozen dataclass: one shared instance is safe).
 DEFAULTS = SimulationOptions()
+#: Shortest simulated time [s]: below it the sample times are not distinct floats (a
+#: subnormal duration gave an unsorted t_eval).
+MIN_DURATION = 1e-9
 
 
 def _plant_accel(mech: Mechanism, baumgarte: tuple[float, float]) -> Accel:
@@ -116,8 +119,8 @@ def simulate(
         JointLimitError: the run starts or gets outside the joint limits (module
             docstring), unless ``options.allow_outside_limits``.
     """
-    if not (np.isfinite(duration) and duration > 0):
-        raise InvalidInputError(f"duration {duration} is invalid; valid: > 0 [s]")
+    if not (np.isfinite(duration) and duration >= MIN_DURATION):
+        raise InvalidInputError(f"duration {duration} is invalid; valid: >= {MIN_DURATION:g} [s]")
     o = options
     fast = None if o.backend == "python" else compiled_rhs(plant, controller)
     n, nv = plant.nq, plant.nv
