@@ -433,3 +433,22 @@ def test_a_robot_without_moving_joints_is_refused():
         "statue: no moving joint (every joint is fixed or a mimic follower); valid: a URDF "
         "with at least one revolute, continuous or prismatic joint"
     )
+
+
+def test_a_continuous_joint_of_a_closed_mechanism_is_one_angle(tmp_path):
+    """The LAAS five-bar with its first joint made continuous: one coordinate per joint,
+    names unique, and the same closure and frames as the revolute original at any q."""
+    laas = Path(__file__).parent / "data" / "laas"
+    text = (laas / "five_bar.urdf").read_text().replace('type="revolute"', 'type="continuous"', 1)
+    (tmp_path / "five_bar.urdf").write_text(text)
+    (tmp_path / "five_bar.yaml").write_text((laas / "five_bar.yaml").read_text())
+    mech = rcm_pin.load(tmp_path / "five_bar.urdf")
+    ref = rcm_pin.load(laas / "five_bar.urdf")
+    assert mech.joint_names == ref.joint_names
+    assert len(set(mech.joint_names)) == len(mech.joint_names) == mech.nq == mech.nv
+    rng = np.random.default_rng(3)
+    for _ in range(5):
+        q = rng.uniform(-np.pi, np.pi, mech.nq)
+        np.testing.assert_allclose(
+            mech.closure_residual(mech.q_pin(q)), ref.closure_residual(ref.q_pin(q)), atol=EXACT
+        )

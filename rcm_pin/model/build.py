@@ -30,14 +30,15 @@ from rcm_pin.model.sidecar import Description
 _AXES = {"x": 0, "y": 1, "z": 2}
 
 
-def parse_models(urdf: str, name: str) -> tuple[pin.Model, pin.Model]:
+def parse_models(urdf: str, name: str, closed: bool = False) -> tuple[pin.Model, pin.Model]:
     """The mimic and no-mimic Pinocchio models of URDF text (continuous joints of mimic
-    pairs parsed as unbounded revolute, :func:`rcm_pin.model.joints.revolute_mimics`).
+    pairs, and of a ``closed`` mechanism every continuous joint, parsed as unbounded
+    revolute: :func:`rcm_pin.model.joints.revolute_mimics`).
 
     Raises:
         InvalidInputError: not a URDF robot, or Pinocchio (urdfdom) cannot build a model.
     """
-    text, unbounded = jt.revolute_mimics(urdf, name)
+    text, unbounded = jt.revolute_mimics(urdf, name, every_continuous=closed)
     try:
         model = pin.buildModelFromXML(text, mimic=True)
         model_full = pin.buildModelFromXML(text)
@@ -93,7 +94,7 @@ def build_mechanism(
         InvalidInputError: malformed URDF or loop description, an ``rcm_axis`` other than
             x, y, z, or an RCM axis without an RCM point.
     """
-    model, model_full = parse_models(urdf, name)
+    model, model_full = parse_models(urdf, name, closed=description.loops is not None)
     model.name = model_full.name = name  # messages name the mechanism, not the URDF robot
     free_missing_limits(urdf, model, model_full)  # no <limit> range: unbounded, not [0, 0]
     coupling = coupling_from_urdf(urdf, model, model_full)
@@ -107,7 +108,7 @@ def build_mechanism(
             "its pose (valid: no output_coords)"
         )
     named = description.coordinates if loops is None else ()
-    coords = jt.coordinates(model, named, closed=loops is not None)
+    coords = jt.coordinates(model, named)
     if loops is not None:
         output = loops.output
     else:

@@ -44,8 +44,12 @@ def is_continuous(jmodel: pin.JointModel) -> bool:
     return bool(jmodel.nq == 2 and jmodel.nv == 1)
 
 
-def revolute_mimics(urdf: str, name: str = "URDF") -> tuple[str, frozenset[str]]:
-    """URDF text whose ``continuous`` joints of mimic pairs are unbounded ``revolute``.
+def revolute_mimics(
+    urdf: str, name: str = "URDF", every_continuous: bool = False
+) -> tuple[str, frozenset[str]]:
+    """URDF text whose ``continuous`` joints of mimic pairs (``every_continuous``: all of
+    them, for a closed mechanism, whose loop solvers work on Pinocchio's q) are unbounded
+    ``revolute``: the same kinematics with one angle each.
 
     Returns:
         The text (unchanged when no such joint) and the names of the rewritten joints.
@@ -73,7 +77,8 @@ def revolute_mimics(urdf: str, name: str = "URDF") -> tuple[str, frozenset[str]]
         tag = joint.find("mimic")
         if tag is not None:
             paired |= {jname, tag.attrib.get("joint", "")}
-    names = frozenset(n for n in paired if n in joints and joints[n].get("type") == "continuous")
+    chosen = joints if every_continuous else paired
+    names = frozenset(n for n in chosen if n in joints and joints[n].get("type") == "continuous")
     if not names:
         return urdf, names
     for n in names:
@@ -147,9 +152,10 @@ class Coordinates:
     upper: np.ndarray
 
 
-def coordinates(model: pin.Model, joints: Sequence[str] = (), closed: bool = False) -> Coordinates:
+def coordinates(model: pin.Model, joints: Sequence[str] = ()) -> Coordinates:
     """One coordinate per independent joint, in Pinocchio order or the order of ``joints``
-    (the papers'); a closed mechanism's model with continuous joints: Pinocchio's q.
+    (the papers'); a continuous joint one unbounded angle (a closed mechanism's arrive
+    here as unbounded revolute joints: :func:`revolute_mimics`).
 
     Raises:
         UnsupportedJointError: a floating or planar joint, or no moving joint at all.
@@ -175,14 +181,6 @@ def coordinates(model: pin.Model, joints: Sequence[str] = (), closed: bool = Fal
             "valid: a URDF with at least one revolute, continuous or prismatic joint"
         )
     cont = [k for k, j in enumerate(ids) if is_continuous(model.joints[j])]
-    if closed and cont:  # the loop solvers work on Pinocchio's q
-        names = [model.names[j] for j in ids for _ in range(model.joints[j].nq)]
-        return Coordinates(
-            tuple(names), np.arange(model.nq), np.arange(model.nv),
-            np.zeros(model.nq, dtype=bool), np.zeros(0, dtype=int),
-            np.asarray(model.lowerPositionLimit).copy(),
-            np.asarray(model.upperPositionLimit).copy(),
-        )  # fmt: skip
     q_index = np.array([model.joints[j].idx_q for j in ids], dtype=int)
     lower = np.asarray(model.lowerPositionLimit)[q_index].copy()
     upper = np.asarray(model.upperPositionLimit)[q_index].copy()
