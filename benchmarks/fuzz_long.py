@@ -31,6 +31,7 @@ from hypothesis import strategies as st
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 import test_fuzz as fz
+import test_fuzz_files as ff
 import test_xacro_safety as xs
 
 
@@ -90,6 +91,8 @@ def _entry_points() -> dict[str, tuple[st.SearchStrategy[Any], Callable[[Any], s
         "cli_ik_arms": (cli("ik", arms), fz.check_cli),
         "cli_fourbar": (fz.fourbar_argv(), fz.check_fourbar),
         "cli_bounds": (fz.bounds_argv(), fz.check_cli),
+        "cli_view_meshes": (ff.mesh_names(), ff.check_view),
+        "cli_rcm_track": (ff.rcm_track_argv(), fz.check_cli),
         "xacro_allowed": (xs.ALLOWED_EXPR, _check_allowed),
         "xacro_forbidden": (
             st.tuples(st.sampled_from(xs.FORBIDDEN), xs.ALLOWED_EXPR),

@@ -27,7 +27,7 @@ from collections.abc import Callable, Iterable
 from pathlib import Path
 from xml.sax.saxutils import escape, unescape
 
-from rcm_pin.errors import MeshLocationError
+from rcm_pin.errors import InvalidInputError, MeshLocationError
 from rcm_pin.model.packages import PackageSearch, package_name
 
 _MESH = re.compile(r"(<mesh\b[^>]*?\bfilename\s*=\s*)([\"'])(.*?)\2", re.DOTALL)
@@ -52,6 +52,20 @@ def description_root(source: Path) -> Path:
         if (above / "package.xml").is_file():
             return above
     return folder
+
+
+def _user_path(text: str | Path, what: str) -> Path:
+    """A folder the user named (``~`` expanded).
+
+    Raises:
+        InvalidInputError: a ``~user`` whose home is not known.
+    """
+    try:
+        return Path(text).expanduser()
+    except RuntimeError:
+        raise InvalidInputError(
+            f"{what} {str(text)!r}: its home folder is not known; valid: an absolute path"
+        ) from None
 
 
 def _inside(path: Path, roots: Iterable[Path]) -> bool:
@@ -95,7 +109,8 @@ def _target(uri: str, base: Path | None, find: Callable[[str], Path]) -> tuple[P
         name, _, rest = uri[len("package://") :].partition("/")
         folder = find(name)
         return (folder / rest).resolve(), folder
-    path = Path(uri[len("file://") :] if uri.startswith("file://") else uri).expanduser()
+    # a file's mesh name is data: no "~" expansion (the exporter's home is not the author's)
+    path = Path(uri[len("file://") :] if uri.startswith("file://") else uri)
     if not path.is_absolute():
         path = (base or Path.cwd()) / path
     return path.resolve(), None
@@ -121,7 +136,7 @@ def resolve_meshes(
         a mesh outside every allowed folder becomes ``REFUSED`` + the reason, so that
         kinematics still load and :func:`drawable_urdf` (the viewer) refuses it.
     """
-    roots = [Path(d).expanduser().resolve() for d in mesh_dirs]
+    roots = [_user_path(d, "mesh folder").resolve() for d in mesh_dirs]
     roots += [f for _, f in search.declared]
     if source is not None:
         roots.append(description_root(source))

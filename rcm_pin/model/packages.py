@@ -165,7 +165,10 @@ def package_search(
     """
     declared = []
     for name, folder in (package_dirs or {}).items():
-        path = Path(folder).expanduser()
+        try:
+            path = Path(folder).expanduser()
+        except RuntimeError:  # "~user" of no known user
+            path = Path("/nonexistent") / str(folder)
         if not name or "/" in name or not path.is_dir():
             raise InvalidInputError(
                 f"package directory {name}={folder}: "
