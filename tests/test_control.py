@@ -115,7 +115,7 @@ def test_errors(two_mass):
         get_trajectory("circle")
     with pytest.raises(SingularConfigurationError, match=r"^tool centre \[0. 0. 0.\] is at A"):
         point_ik(np.zeros(3))
-    with pytest.raises(InvalidInputError, match=r"^duration 0.0 is invalid; valid: > 0 \[s\]"):
+    with pytest.raises(InvalidInputError, match=r"^duration 0.0 is invalid; valid: >= 1e-09 \[s\]"):
         simulate(two_mass, None, 0.0, q0=np.array([0, 0, 0.1]))
     with pytest.raises(InvalidInputError, match=r"^q0 is required without a controller"):
         simulate(two_mass, None, 1.0)
