@@ -92,6 +92,23 @@ def test_closed_list_is_the_catalogues():
     assert set(CLOSED) == {n for n in rcm_pin.names() if rcm_pin.load(n).is_closed}
 
 
+def test_loads_without_warnings(exported):
+    import mujoco
+
+    export, mj = exported
+    mech = export.mechanism
+    check.set_state(mj, mech, mech.to_pin(mech.home), np.zeros(mech.model.nv))
+    mujoco.mj_forward(mj.model, mj.data)
+    assert not any(w.number for w in mj.data.warning)
+
+
+def test_meshes_are_referenced_by_absolute_path(tmp_path):
+    export, mj = _export(rcm_pin.load("panda"), tmp_path)
+    files = [m.get("file") for m in ET.parse(export.path).getroot().iter("mesh")]
+    assert files and all(Path(f).is_absolute() and Path(f).is_file() for f in files)
+    assert mj.model.nmesh == len(files)
+
+
 def test_mass_matrix_and_bias_match_through_the_coupling(exported):
     export, mj = exported
     rng = np.random.default_rng(28)
@@ -152,7 +169,12 @@ def test_the_file_says_what_the_mechanism_is(tmp_path):
     assert mech.output.frame in sites
     option = root.find("option")
     assert float(option.get("timestep")) == export.settings.timestep
-    assert "solref" in ET.tostring(root, encoding="unicode")
+    text = export.path.read_text()
+    comment = text[text.index("<!-- rcm-pin export") : text.index("-->")]
+    assert "2*timestep" in comment and f"timestep {export.settings.timestep:g} s" in comment
+    for eq in [*root.iter("connect"), *(e for e in root.iter("joint") if e.get("joint1"))]:
+        assert eq.get("solimp").split()[0] == "0.9999"
+        assert float(eq.get("solref").split()[0]) == 2 * export.settings.timestep
     assert [p.name for p in tmp_path.iterdir()] == [export.path.name]  # no temp file left
 
 
