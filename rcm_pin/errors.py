@@ -125,6 +125,7 @@ EXTRAS = {
     "design": "design studies (rcm-pin sweep / optimize)",
     "arms": "the programmable RCM on arms (rcm-pin rcm-track on an arm)",
     "report": "the import-graph section cache of rcm-pin reproduce",
+    "mujoco": "loading and checking MuJoCo exports (rcm_pin.export.load_mujoco)",
 }
 #: Distribution names of the optional modules whose import name differs.
 _DISTRIBUTIONS = {"pink": "pin-pink", "distributed": "dask[distributed]"}

@@ -28,6 +28,7 @@ FACADES = (
     "rcm_pin.dynamics",
     "rcm_pin.control",
     "rcm_pin.viz",
+    "rcm_pin.export",
     "rcm_pin.design",
     "rcm_pin.mechanisms",
     "rcm_pin.studies",

@@ -25,6 +25,7 @@ from rcm_pin.cli import (
     analysis,
     catalog,
     design,
+    export,
     fourbar,
     ocp,
     position,
@@ -42,6 +43,7 @@ COMMAND_MODULES: Modules = (catalog, position, reproduce, analysis, simulate, oc
 COMMAND_MODULES += (fourbar,)
 COMMAND_MODULES += (rcm_track,)
 COMMAND_MODULES += (vibrations,)
+COMMAND_MODULES += (export,)
 
 
 #: Exit status of bad input (typed errors and argparse usage errors).

@@ -29,7 +29,7 @@ from rcm_pin.cli._common import (
     output_path,
     parse_vector,
 )
-from rcm_pin.errors import InvalidInputError
+from rcm_pin.errors import InvalidInputError, require
 
 if TYPE_CHECKING:  # the command functions import the control layer (not needed for --help)
     from rcm_pin.control.result import SimulationResult
@@ -88,6 +88,12 @@ def register(sub: argparse._SubParsersAction) -> None:
         "CasADi function; serial, square position task; the trajectory to the tolerances)",
     )
     p.add_argument("--plot", type=Path, metavar="DIR", help="write the figures into DIR")
+    p.add_argument(
+        "--engine",
+        choices=("pinocchio", "mujoco"),
+        default="pinocchio",
+        help="mujoco: also run it on the MJCF export (docs/mujoco.md; the mujoco extra)",
+    )
     p.set_defaults(func=cmd_simulate)
 
 
@@ -198,6 +204,8 @@ def cmd_simulate(args: argparse.Namespace) -> int:
             "\n".join(f"{k}: {v.description}" for k, v in table.items()),
         )
         return 0
+    if args.engine == "mujoco":  # before any work: MissingExtraError names the extra
+        require("mujoco", "mujoco")
     if args.no_gravity:
         mech = with_gravity(mech, None)
     name, sc = _scenario(mech, args)
@@ -232,6 +240,11 @@ def cmd_simulate(args: argparse.Namespace) -> int:
         "runs": [_summary(mech, lb, r, s) for lb, s, r in runs],
         "figures": [],
     }
+    if args.engine == "mujoco":  # the same law on the MJCF export, compared at the samples
+        from rcm_pin.export.simulate import simulate_mujoco
+
+        for summary, (_, s, r) in zip(payload["runs"], runs, strict=True):
+            summary["mujoco"] = simulate_mujoco(mech, s, compare=r, **law).summary()
     if args.plot:
         payload["figures"] = [str(f) for f in _figures(mech, runs[-1][2], args.plot)]
     lines = [
@@ -249,6 +262,13 @@ def cmd_simulate(args: argparse.Namespace) -> int:
             f"at t = {o['time_s']:.4g} s (farthest {o['farthest']:.6g})"
             for o in r["outside_limits"]
         ]
+        if "mujoco" in r:
+            mj = r["mujoco"]
+            lines.append(
+                f"  MuJoCo (dt {mj['timestep']:g} s, law held {mj['control_period']:g} s): max "
+                f"difference {mj['max_difference_from_pinocchio']:.1e}, max equality residual "
+                f"{mj['max_equality_residual']:.1e}"
+            )
     lines += [f"wrote {f}" for f in payload["figures"]]
     emit(args, payload, "\n".join(lines))
     return 0
