@@ -49,3 +49,16 @@ def test_the_notebooks_page_names_every_notebook():
     assert len(notebooks) >= 10
     missing = [stem for stem in notebooks if f"`{stem}`" not in text]
     assert not missing, f"docs/notebooks.md does not name the notebooks {missing}"
+
+
+def test_the_readme_mechanism_table_is_the_catalogue():
+    """The README's mechanism table (which docs/getting_started.md includes) lists every
+    catalogue entry, in the catalogue's order, with its kind."""
+    import re
+
+    import rcm_pin
+
+    text = (ROOT / "README.md").read_text()
+    table = text.split("<!-- mechanisms:")[1].split("<!-- /mechanisms -->")[0]
+    rows = re.findall(r"^\| `(\w+)` \| (\w+) \|", table, flags=re.M)
+    assert rows == [(e.name, e.kind) for e in rcm_pin.catalogue()]

@@ -125,7 +125,7 @@ def _directive(package: ModuleType, name: str, seen: set[int]) -> str:
             f".. automodule:: {obj.__name__}\n   :no-members:\n   :no-index:\n"
         )
     if inspect.isclass(obj):
-        return f".. autoclass:: {target}\n{again}"
+        return f".. autoclass:: {target}\n   :members:\n{again}"
     if inspect.isroutine(obj):
         return f".. autofunction:: {target}\n{again}"
     return f".. py:data:: {target}\n\n   {summary(package, name)}\n"
