@@ -62,3 +62,18 @@ def test_the_readme_mechanism_table_is_the_catalogue():
     table = text.split("<!-- mechanisms:")[1].split("<!-- /mechanisms -->")[0]
     rows = re.findall(r"^\| `(\w+)` \| (\w+) \|", table, flags=re.M)
     assert rows == [(e.name, e.kind) for e in rcm_pin.catalogue()]
+
+
+def test_the_extras_table_names_every_extra():
+    """docs/getting_started.md's table of extras has one row per extra of pyproject.toml
+    (``notebooks`` is described with the notebooks, docs/notebooks.md)."""
+    import re
+
+    project = (ROOT / "pyproject.toml").read_text()  # tomllib is Python >= 3.11
+    section = project.split("[project.optional-dependencies]")[1].split("\n[")[0]
+    extras = set(re.findall(r"^([\w-]+) = \[", section, flags=re.M))
+    assert {"design", "arms", "report", "all", "docs", "test", "notebooks"} <= extras
+    text = (ROOT / "docs" / "getting_started.md").read_text()
+    rows = set(re.findall(r"^\| `rcm-pin\[(\w+)\]` \|", text, flags=re.M))
+    assert rows == set(extras) - {"notebooks"}
+    assert "[notebooks]" in (ROOT / "docs" / "notebooks.md").read_text()
