@@ -1,5 +1,6 @@
 """Documentation never goes stale: the generated pages (docs/architecture.md's module table,
-docs/api.md), the closed mechanisms of docs/conventions.md and the README's notebook list."""
+docs/api.md, docs/reference/), the closed mechanisms of docs/conventions.md and the notebook
+list of docs/notebooks.md."""
 
 from __future__ import annotations
 
@@ -16,7 +17,7 @@ ROOT = Path(__file__).resolve().parents[1]
     "tool",
     [
         "modules_table.py",  # docs/architecture.md: every module with its docstring
-        "api_doc.py",  # docs/api.md: every public name of the façades
+        "api_doc.py",  # docs/api.md and docs/reference/: every public name of the façades
     ],
 )
 def test_generated_docs_are_current(tool):
@@ -41,10 +42,38 @@ def test_the_conventions_name_every_closed_catalogue_mechanism():
     assert not missing, f"docs/conventions.md does not name {missing}"
 
 
-def test_the_readme_names_every_notebook():
-    """The README's notebook list names each notebook of notebooks/ (by file stem)."""
-    text = (ROOT / "README.md").read_text()
+def test_the_notebooks_page_names_every_notebook():
+    """docs/notebooks.md names each notebook of notebooks/ (by file stem)."""
+    text = (ROOT / "docs" / "notebooks.md").read_text()
     notebooks = sorted(p.stem for p in (ROOT / "notebooks").glob("*.ipynb"))
     assert len(notebooks) >= 10
     missing = [stem for stem in notebooks if f"`{stem}`" not in text]
-    assert not missing, f"README.md does not name the notebooks {missing}"
+    assert not missing, f"docs/notebooks.md does not name the notebooks {missing}"
+
+
+def test_the_readme_mechanism_table_is_the_catalogue():
+    """The README's mechanism table (which docs/getting_started.md includes) lists every
+    catalogue entry, in the catalogue's order, with its kind."""
+    import re
+
+    import rcm_pin
+
+    text = (ROOT / "README.md").read_text()
+    table = text.split("<!-- mechanisms:")[1].split("<!-- /mechanisms -->")[0]
+    rows = re.findall(r"^\| `(\w+)` \| (\w+) \|", table, flags=re.M)
+    assert rows == [(e.name, e.kind) for e in rcm_pin.catalogue()]
+
+
+def test_the_extras_table_names_every_extra():
+    """docs/getting_started.md's table of extras has one row per extra of pyproject.toml
+    (``notebooks`` is described with the notebooks, docs/notebooks.md)."""
+    import re
+
+    project = (ROOT / "pyproject.toml").read_text()  # tomllib is Python >= 3.11
+    section = project.split("[project.optional-dependencies]")[1].split("\n[")[0]
+    extras = set(re.findall(r"^([\w-]+) = \[", section, flags=re.M))
+    assert {"design", "arms", "report", "all", "docs", "test", "notebooks"} <= extras
+    text = (ROOT / "docs" / "getting_started.md").read_text()
+    rows = set(re.findall(r"^\| `rcm-pin\[(\w+)\]` \|", text, flags=re.M))
+    assert rows == set(extras) - {"notebooks"}
+    assert "[notebooks]" in (ROOT / "docs" / "notebooks.md").read_text()

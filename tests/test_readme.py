@@ -1,15 +1,20 @@
-"""The README's examples run as written.
+"""The examples of the README and of every page of docs/ run as written.
 
-Every Python block runs (in a temporary working directory). Every line of the shell blocks
-(```bash, ```sh, ```console: the ``$ `` lines) runs in ``bash`` with the checkout's
-``rcm-pin`` (the console script beside ``sys.executable``) first on PATH; a block's lines
-share one temporary directory and run in order, as when the block is pasted into a shell.
-A line exits 0 unless its comment says ``exits with status N``.
+The pages are README.md and docs/*.md, except docs/own_robot.md (its own runner,
+tests/test_own_robot_doc.py) and docs/api.md (generated, no code). Every Python block runs
+(in a temporary working directory). Every line of the shell blocks (```bash, ```sh,
+```console: the ``$ `` lines) runs in ``bash`` with the checkout's ``rcm-pin`` (the console
+script beside ``sys.executable``) first on PATH; a block's lines share one temporary
+directory and run in order, as when the block is pasted into a shell. The temporary
+directory links ``tests`` to the checkout's, so the example files of ``tests/data`` are
+found as from the repository root. A line exits 0 unless its comment says
+``exits with status N``. The other blocks are checked too: a ```json block parses, an
+```xml block is an element of a committed URDF (:func:`test_data_blocks_are_real`).
 
 The lines that cannot run inside the suite are listed in :data:`SPECIAL`, each with the
-reason and what is done instead; an entry that matches no README line fails, so that the
-list cannot outlive the lines it excuses, and a line of the Quick start that no entry
-matches fails too (those lines create virtual environments).
+reason and what is done instead; an entry that matches no line of any page fails, so that
+the list cannot outlive the lines it excuses, and a line of the README's Quick start that no
+entry matches fails too (those lines create virtual environments).
 """
 
 from __future__ import annotations
@@ -28,11 +33,21 @@ import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
 README = ROOT / "README.md"
-TEXT = README.read_text()
-BLOCKS = re.findall(r"^```python\n(.*?)^```$", TEXT, flags=re.S | re.M)
+#: The pages whose examples this module runs (docs/own_robot.md: tests/test_own_robot_doc.py).
+PAGES = [README] + [
+    p for p in sorted((ROOT / "docs").glob("*.md")) if p.name not in {"own_robot.md", "api.md"}
+]
+TEXTS = {page: page.read_text() for page in PAGES}
+TEXT = TEXTS[README]
+#: (page, Python source) of every ```python block.
+BLOCKS = [
+    (page, code)
+    for page, text in TEXTS.items()
+    for code in re.findall(r"^```python\n(.*?)^```$", text, flags=re.S | re.M)
+]
 #: The checkout's console scripts (the virtual environment running the tests).
 BIN = Path(sys.executable).parent
-#: Wall-clock limit of one README line [s].
+#: Wall-clock limit of one line [s].
 LINE_TIMEOUT = 300.0
 #: The report section the reproduce lines run (the whole report takes about 2 min on 2 cores).
 SMALL_REPORT = "--only rcm_pin.report.position --jobs 1"
@@ -40,11 +55,12 @@ SMALL_REPORT = "--only rcm_pin.report.position --jobs 1"
 
 @dataclass(frozen=True)
 class Line:
-    """One shell command of the README: its section (``## `` heading), line number, text."""
+    """One shell command of a page: its section (``## `` heading), line number, text."""
 
     section: str
     number: int
     text: str
+    page: str = "README.md"
 
     @property
     def expected_status(self) -> int:
@@ -54,7 +70,7 @@ class Line:
 
 @dataclass(frozen=True)
 class Special:
-    """README lines that do not run as they are: ``pattern`` (a regex that must match the
+    """Lines of the pages that do not run as they are: ``pattern`` (a regex that must match the
     whole line), why, and ``how`` they are checked instead."""
 
     pattern: str
@@ -97,7 +113,7 @@ def _strip_comment(text: str) -> str:
     return re.sub(r"\s+#.*$", "", text).strip()
 
 
-def shell_blocks(text: str) -> list[list[Line]]:
+def shell_blocks(text: str, page: str = "README.md") -> list[list[Line]]:
     """The commands of every ```bash / ```sh / ```console block, block by block (``\\``
     continuations joined; blank and comment lines dropped; console blocks: ``$ `` lines)."""
     blocks: list[list[Line]] = []
@@ -129,12 +145,16 @@ def shell_blocks(text: str) -> list[list[Line]]:
                 continue
             pending = None
             if raw.strip() and not raw.strip().startswith("#"):
-                commands.append(Line(section, number, raw.strip()))
+                commands.append(Line(section, number, raw.strip(), page))
         blocks.append(commands)
     return blocks
 
 
-SHELL = shell_blocks(TEXT)
+def _name(page: Path) -> str:
+    return str(page.relative_to(ROOT))
+
+
+SHELL = [block for page, text in TEXTS.items() for block in shell_blocks(text, _name(page))]
 LINES = [line for block in SHELL for line in block]
 
 
@@ -199,7 +219,7 @@ def _interrupt(command: str, cwd: Path) -> tuple[int, str]:
 
 
 def _check(line: Line, cwd: Path) -> str | None:
-    """None if the line behaves as the README says, else what went wrong."""
+    """None if the line behaves as its page says, else what went wrong."""
     entry = special(line)
     if entry is not None and entry.how == "ci":
         ci = (ROOT / ".ci" / "run").read_text().splitlines()
@@ -222,34 +242,67 @@ def _check(line: Line, cwd: Path) -> str | None:
     return None
 
 
-def test_the_readme_has_python_blocks():
-    assert len(BLOCKS) >= 6
+def _workdir(tmp_path: Path) -> Path:
+    """A temporary working directory where ``tests/data/...`` resolves (the checkout's)."""
+    (tmp_path / "tests").symlink_to(ROOT / "tests", target_is_directory=True)
+    return tmp_path
 
 
-@pytest.mark.parametrize("index", range(len(BLOCKS)))
-def test_readme_block_runs(index, tmp_path, monkeypatch):
-    monkeypatch.chdir(tmp_path)
-    code = compile(BLOCKS[index], f"README.md block {index}", "exec")
-    exec(code, {"__name__": f"readme_block_{index}"})
+def test_the_pages_have_python_blocks():
+    assert any(page == README for page, _ in BLOCKS), "no Python block in the README"
+    assert len(BLOCKS) >= 10
 
 
-def test_the_readme_has_shell_lines_and_every_special_entry_is_used():
+def _block_id(index: int) -> str:
+    page, _ = BLOCKS[index]
+    return f"{page.stem}-{sum(p == page for p, _ in BLOCKS[:index])}"
+
+
+@pytest.mark.parametrize("index", range(len(BLOCKS)), ids=_block_id)
+def test_python_block_runs(index, tmp_path, monkeypatch):
+    monkeypatch.chdir(_workdir(tmp_path))
+    page, source = BLOCKS[index]
+    code = compile(source, f"{_name(page)} block {_block_id(index)}", "exec")
+    exec(code, {"__name__": f"doc_block_{index}"})
+
+
+def test_data_blocks_are_real():
+    """A ```json block is JSON; an ```xml block is the ``<rcm_pin>`` element of a committed
+    URDF (the same attributes and values)."""
+    import json
+    import xml.etree.ElementTree as ET
+
+    checked = 0
+    for page, text in TEXTS.items():
+        for block in re.findall(r"^```json\n(.*?)^```$", text, flags=re.S | re.M):
+            json.loads(block)
+            checked += 1
+        for block in re.findall(r"^```xml\n(.*?)^```$", text, flags=re.S | re.M):
+            shown = ET.fromstring(block)
+            urdfs = [ET.parse(u).getroot() for u in sorted((ROOT / "urdf").glob("*.urdf"))]
+            found = [e.attrib for root in urdfs for e in root.iter(shown.tag)]
+            assert shown.attrib in found, f"{_name(page)}: {block} is in no urdf/*.urdf"
+            checked += 1
+    assert checked >= 2
+
+
+def test_the_pages_have_shell_lines_and_every_special_entry_is_used():
     assert len(LINES) >= 30
     unused = [e.pattern for e in SPECIAL if not any(special(line) is e for line in LINES)]
-    assert not unused, f"SPECIAL entries that match no README line: {unused}"
-    quick = [line for line in LINES if line.section == "Quick start"]
+    assert not unused, f"SPECIAL entries that match no line of the pages: {unused}"
+    quick = [line for line in LINES if line.section == "Quick start" and line.page == "README.md"]
     assert quick, "no shell line in the README's Quick start"
     untreated = [line.text for line in quick if special(line) is None]
     assert not untreated, f"Quick-start lines without a SPECIAL entry: {untreated}"
 
 
-def test_the_readme_ik_output_is_what_ik_prints():
-    """The README's sample of ``rcm-pin ik ... --pose`` output (a ```text block): its
+def test_the_ik_output_sample_is_what_ik_prints():
+    """The sample of ``rcm-pin ik ... --pose`` output (a ```text block of docs/cli.md): its
     header and legend lines as printed, and each solution's in/out prefix and label."""
-    sample = re.search(
-        r"^```text\n(rcm_bevel: inverse position problem.*?)^```$", TEXT, re.S | re.M
-    )
-    assert sample is not None, "no sample of the ik output in the README"
+    pattern = r"^```text\n(rcm_bevel: inverse position problem.*?)^```$"
+    samples = [s for text in TEXTS.values() for s in re.finditer(pattern, text, re.S | re.M)]
+    assert samples, "no sample of the ik output in the pages"
+    sample = samples[0]
     shown = [s for s in sample.group(1).splitlines() if s != "..."]
     (line,) = [x for x in LINES if x.text.startswith("rcm-pin ik rcm_bevel --pose")][:1]
     done = _run(line.text, ROOT)
@@ -266,13 +319,16 @@ def test_the_checkout_rcm_pin_is_beside_the_interpreter():
 
 
 @pytest.mark.parametrize(
-    "block", range(len(SHELL)), ids=[f"line{b[0].number}" if b else "empty" for b in SHELL]
+    "block",
+    range(len(SHELL)),
+    ids=[f"{Path(b[0].page).stem}-line{b[0].number}" if b else "empty" for b in SHELL],
 )
-def test_readme_shell_block_runs(block, tmp_path):
+def test_shell_block_runs(block, tmp_path):
     """Each line of the block, in order, in one temporary directory."""
     failures = []
+    cwd = _workdir(tmp_path)
     for line in SHELL[block]:
-        problem = _check(line, tmp_path)
+        problem = _check(line, cwd)
         if problem is not None:
-            failures.append(f"README.md:{line.number}: {line.text}\n    {problem}")
+            failures.append(f"{line.page}:{line.number}: {line.text}\n    {problem}")
     assert not failures, "\n".join(failures)

@@ -6,10 +6,13 @@ Geometry (``xacro/five_bar.urdf.xacro``)::
     B_i = A_i + l1_i (cos q_i, sin q_i)                    elbows (extra drives θ_i, relative)
     F_i(P, q_i) = |P − B_i|² − l2_i² = 0                   loop equations, P = (x, y) [m]
 
-Main drives (q_1, q_2), Angeles–Gosselin A ẋ = −B q̇ with u_i = P − B_i:
+Main drives (q_1, q_2), Angeles–Gosselin A ẋ = −B q̇ with u_i = P − B_i::
+
     A = 2 [u_1ᵀ; u_2ᵀ],  B = diag(−2 (B_i − A_i) × u_i)     [m², m²/rad]
     type 2 (det A = 0): B_1, P, B_2 aligned;  type 1 (det B = 0): A_i, B_i, P aligned.
-Extra drives (elbow angles θ_i): |P − A_i|² = ρ_i², ρ_i² = l1_i² + l2_i² + 2 l1_i l2_i cos θ_i:
+
+Extra drives (elbow angles θ_i): |P − A_i|² = ρ_i², ρ_i² = l1_i² + l2_i² + 2 l1_i l2_i cos θ_i::
+
     A' = 2 [(P − A_1)ᵀ; (P − A_2)ᵀ]; type 2 of the extra drives: A_1, P, A_2 aligned (P on
     the base line), far from the main drives' type-2 curve.
 

@@ -12,8 +12,10 @@ is relative (θ_A = ∠(B − A) − q1). Direct problem: B on the circles (A, l
 two assembly modes; inverse problem: A on the circles (O1, l1) and (B, l2), two working
 modes labelled by the side of A with respect to the line O1 → B (``+``: left).
 
-Angeles–Gosselin form A ψ̇ = −B q̇1 with u = B − A:
-    A = ∂F/∂ψ = 2 u·l3 (−sin ψ, cos ψ),   B = ∂F/∂q1 = −2 u·l1 (−sin q1, cos q1);
+Angeles–Gosselin form A ψ̇ = −B q̇1 with u = B − A::
+
+    A = ∂F/∂ψ = 2 u·l3 (−sin ψ, cos ψ),   B = ∂F/∂q1 = −2 u·l1 (−sin q1, cos q1)
+
 type 2 (A = 0): coupler and rocker aligned (transmission angle 0 or π); type 1 (B = 0):
 crank and coupler aligned (the rocker's extreme positions).
 

@@ -11,6 +11,7 @@ the closed-loop inverse dynamics with the active drive set, and the one
 :func:`rcm_pin.control.simulate.simulate` on the constrained forward dynamics.
 
 Three runs:
+
 * ``main``: main drives only, unlimited torque — |τ| grows like 1/distance to the curve
   (integration stops when |τ| exceeds ``blowup`` or the measure falls below 1e-9);
 * ``main_saturated``: main drives only, torques clipped to ±``tau_max`` — loses the path;
