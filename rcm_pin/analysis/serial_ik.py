@@ -38,10 +38,10 @@ FTOL = 1e-10
 N_STARTS = 16
 
 
-def _finite_box(mech: Mechanism) -> tuple[np.ndarray, np.ndarray]:
-    """The search box: the limits, one turn [-π, π] for a revolute coordinate whose limits
-    span a turn or more (every angle is there; some files write 1e16 for "none"), and
-    [-π, π] for any other unbounded coordinate."""
+def search_box(mech: Mechanism) -> tuple[np.ndarray, np.ndarray]:
+    """The box searched and sampled [rad, m]: the limits, one turn [-π, π] for a revolute
+    coordinate whose limits span a turn or more (every angle is there; some files write
+    1e16 for "none"), and [-π, π] for any other unbounded coordinate."""
     lo, hi = np.array(mech.lower, dtype=float), np.array(mech.upper, dtype=float)
     turn = np.asarray(mech.revolute, dtype=bool) & ((hi - lo) >= 2 * np.pi)
     lo[turn], hi[turn] = -np.pi, np.pi
@@ -64,7 +64,7 @@ def solve_one(
 ) -> tuple[np.ndarray, float]:
     """One bounded least-squares run from q0 (clipped to the box, at most ``max_iter``
     residual evaluations); returns (q, max |e|)."""
-    lo, hi = _finite_box(mech)
+    lo, hi = search_box(mech)
     cache: dict[bytes, tuple[np.ndarray, np.ndarray]] = {}
 
     def evaluate(q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -113,7 +113,7 @@ def numeric_branches(
     """Distinct converged solutions from the box middle and seeded random starts."""
     from rcm_pin.analysis.closed_position import same
 
-    lo, hi = _finite_box(mech)
+    lo, hi = search_box(mech)
     rng = np.random.default_rng(seed)
     starts = [0.5 * (lo + hi), *rng.uniform(lo, hi, size=(n_starts - 1, mech.nq))]
     found: list[np.ndarray] = []
@@ -198,6 +198,7 @@ __all__ = [
     "check_starts",
     "numeric_branches",
     "numeric_inverse",
+    "search_box",
     "solve_near",
     "solve_one",
 ]

@@ -55,9 +55,11 @@ def sample_joints(mech: Mechanism, n: int, seed: int = 0) -> FloatArray:
     if not 1 <= n <= MAX_SAMPLES:
         raise InvalidInputError(f"sample count {n}; valid: 1..{MAX_SAMPLES}")
     rng = np.random.default_rng(seed)
-    if mech.loops is None:  # an unbounded (continuous) joint: one turn
-        lo = np.where(np.isfinite(mech.lower), mech.lower, -np.pi)
-        return rng.uniform(lo, np.where(np.isfinite(mech.upper), mech.upper, np.pi), (n, mech.nq))
+    if mech.loops is None:  # unbounded, or limits of a turn or more: one turn
+        from rcm_pin.analysis.serial_ik import search_box
+
+        lo, hi = search_box(mech)
+        return rng.uniform(lo, hi, (n, mech.nq))
     lo, hi = _box(mech, mech.loops.drive_q)
     return rng.uniform(lo, hi, size=(n, mech.loops.dof))
 
