@@ -29,8 +29,6 @@ from pathlib import Path
 import numpy as np
 
 import rcm_pin
-from rcm_pin.analysis.position import forward
-from rcm_pin.dynamics.constrained import world_closure
 from rcm_pin.export import check, to_mjcf
 from rcm_pin.model.coupling import mimic_tags
 
@@ -41,26 +39,6 @@ PATHS["continuous_joints.urdf"] = "tool_link"
 MARK = "<!-- mujoco-table -->"
 
 
-def states(mech, rng, n=3):
-    """Seeded (q, v, τ) as in tests/test_mujoco_export.py."""
-    out, home = [], mech.to_pin(mech.home)
-    for k in range(n):
-        if mech.loops is None:
-            q = mech.to_pin(rng.uniform(np.maximum(mech.lower, -2), np.minimum(mech.upper, 2)))
-            v = rng.normal(size=mech.model.nv)
-        else:
-            q = home
-            if k:
-                drives = home[mech.loops.drive_q] + rng.uniform(-0.05, 0.05, mech.loops.dof)
-                sols = forward(mech, drives, q_guess=home).solutions
-                q = sols[0].q if sols else home
-            jac = world_closure(mech, q, np.zeros(mech.model.nv))[1]
-            basis = np.linalg.svd(jac)[2][np.linalg.matrix_rank(jac) :]
-            v = basis.T @ rng.normal(size=len(basis))
-        out.append((q, v / np.linalg.norm(v), rng.normal(size=mech.model.nv)))
-    return out
-
-
 def row(name: str, folder: Path) -> str:
     mech = rcm_pin.load(str(DATA / name), tool_frame=PATHS[name]) if name in PATHS else None
     mech = mech or rcm_pin.load(name)
@@ -68,7 +46,7 @@ def row(name: str, folder: Path) -> str:
         warnings.simplefilter("ignore")
         export = to_mjcf(mech, folder / f"{mech.name}.xml")
     mech, mj = export.mechanism, check.load_mujoco(export.path, export.mechanism)
-    cases = states(mech, np.random.default_rng(28))
+    cases = check.random_states(mech, np.random.default_rng(28))
     tree = max(check.tree_error(mj, mech, q, v) for q, v, _ in cases)
     rigid = nojdot = "–"
     if mech.loops is not None:
@@ -79,7 +57,7 @@ def row(name: str, folder: Path) -> str:
             bad = check.rigid_acceleration(mj, mech, q, v, tau, jdot=False)
             worst = max(worst, float(np.linalg.norm(bad - good) / np.linalg.norm(good)))
         nojdot = f"{worst:.1e}"
-    q, v, _ = states(mech, np.random.default_rng(30), n=1)[0]
+    q, v, _ = check.random_states(mech, np.random.default_rng(30), n=1)[0]
     drift = check.free_motion_drift(mj, mech, q, v, duration=0.2)
     s = export.settings
     eqs = f"{len(mimic_tags(mech.urdf))} / {len(mech.loops.closures) if mech.loops else 0}"

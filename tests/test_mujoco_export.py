@@ -22,7 +22,6 @@ import numpy as np
 import pytest
 
 import rcm_pin
-from rcm_pin.analysis.position import forward
 from rcm_pin.dynamics.constrained import world_closure
 from rcm_pin.errors import InvalidInputError, MissingExtraError, UnknownMechanismError
 from rcm_pin.export import check, settings, to_mjcf
@@ -51,28 +50,6 @@ def _export(mech, folder):
         warnings.simplefilter("ignore", settings.InexactExportWarning)
         export = to_mjcf(mech, folder / f"{mech.name}.xml")
     return export, check.load_mujoco(export.path, export.mechanism)
-
-
-def _states(mech, rng, n=3):
-    """Seeded states: (q, v, τ); closed: assembled configurations near home, J_c v = 0."""
-    out = []
-    home = mech.to_pin(mech.home)
-    for k in range(n):
-        if mech.loops is None:
-            q = mech.to_pin(rng.uniform(np.maximum(mech.lower, -2), np.minimum(mech.upper, 2)))
-            v = rng.normal(size=mech.model.nv)
-        else:
-            q = home
-            if k:
-                drives = home[mech.loops.drive_q] + rng.uniform(-0.05, 0.05, mech.loops.dof)
-                sols = forward(mech, drives, q_guess=home).solutions
-                q = sols[0].q if sols else home
-            jac = world_closure(mech, q, np.zeros(mech.model.nv))[1]
-            rank = np.linalg.matrix_rank(jac)
-            basis = np.linalg.svd(jac)[2][rank:]
-            v = basis.T @ rng.normal(size=len(basis))
-        out.append((q, v / np.linalg.norm(v), rng.normal(size=mech.model.nv)))
-    return out
 
 
 @pytest.fixture(scope="module", params=[*rcm_pin.names(), *PATHS])
@@ -112,21 +89,21 @@ def test_meshes_are_referenced_by_absolute_path(tmp_path):
 def test_mass_matrix_and_bias_match_through_the_coupling(exported):
     export, mj = exported
     rng = np.random.default_rng(28)
-    for q, v, _ in _states(export.mechanism, rng):
+    for q, v, _ in check.random_states(export.mechanism, rng):
         assert check.tree_error(mj, export.mechanism, q, v) <= SOLVER
 
 
 def test_rigid_limit_matches_constrained_forward_dynamics(exported_closed):
     export, mj = exported_closed
     rng = np.random.default_rng(29)
-    for q, v, tau in _states(export.mechanism, rng):
+    for q, v, tau in check.random_states(export.mechanism, rng):
         assert check.rigid_limit_error(mj, export.mechanism, q, v, tau) <= SOLVER
 
 
 def test_free_motion_stays_within_the_predicted_drift(exported):
     export, mj = exported
     mech = export.mechanism
-    q, v, _ = _states(mech, np.random.default_rng(30), n=1)[0]
+    q, v, _ = check.random_states(mech, np.random.default_rng(30), n=1)[0]
     drift = check.free_motion_drift(mj, mech, q, v, duration=0.2)
     assert drift <= export.settings.predicted_drift
     if export.settings.predicted_drift:
@@ -140,7 +117,7 @@ def test_jdot_v_is_in_efc_aref_and_leaving_it_out_is_wrong(tmp_path):
 
     mech = rcm_pin.load("four_bar")
     export, mj = _export(mech, tmp_path)
-    q, v, tau = _states(mech, np.random.default_rng(31), n=1)[0]
+    q, v, tau = check.random_states(mech, np.random.default_rng(31), n=1)[0]
     check.set_state(mj, mech, q, v)
     mujoco.mj_forward(mj.model, mj.data)
     d = mj.data

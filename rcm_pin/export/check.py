@@ -196,10 +196,39 @@ def free_motion_drift(
     return worst
 
 
+def random_states(
+    mech: Mechanism, rng: np.random.Generator, n: int = 3
+) -> list[tuple[np.ndarray, np.ndarray, np.ndarray]]:
+    """Seeded states (q, v, τ) of Pinocchio's model for the export checks: serial q inside
+    the limits cut to ±2 [rad, m]; closed, assembled configurations near home (drives
+    ±0.05 off) with J_c v = 0; |v| = 1, τ standard normal [N·m, N]."""
+    from rcm_pin.analysis.position import forward
+    from rcm_pin.dynamics.constrained import world_closure
+
+    out = []
+    home = mech.to_pin(mech.home)
+    for k in range(n):
+        if mech.loops is None:
+            q = mech.to_pin(rng.uniform(np.maximum(mech.lower, -2), np.minimum(mech.upper, 2)))
+            v = rng.normal(size=mech.model.nv)
+        else:
+            q = home
+            if k:
+                drives = home[mech.loops.drive_q] + rng.uniform(-0.05, 0.05, mech.loops.dof)
+                sols = forward(mech, drives, q_guess=home).solutions
+                q = sols[0].q if sols else home
+            jac = world_closure(mech, q, np.zeros(mech.model.nv))[1]
+            basis = np.linalg.svd(jac)[2][np.linalg.matrix_rank(jac) :]
+            v = basis.T @ rng.normal(size=len(basis))
+        out.append((q, v / np.linalg.norm(v), rng.normal(size=mech.model.nv)))
+    return out
+
+
 __all__ = [
     "MujocoModel",
     "free_motion_drift",
     "load_mujoco",
+    "random_states",
     "rigid_acceleration",
     "rigid_limit_error",
     "set_state",
