@@ -32,6 +32,7 @@ from rcm_pin.dynamics.tree import mass_matrix_pin
 from rcm_pin.model.constraints import constraint_models
 from rcm_pin.model.loops import LWA
 from rcm_pin.model.mechanism import Mechanism
+from rcm_pin.model.newton import constraint_rank
 from rcm_pin.model.output import Output
 from rcm_pin.rotations import MAX_ABS
 
@@ -133,10 +134,16 @@ def forward_dynamics(
     w, z = baumgarte
     rhs_c = -gam - 2.0 * z * w * (jc @ v) - w * w * c
     n, m = mech.model.nv, len(c)
-    kkt = np.zeros((n + m, n + m))
-    kkt[:n, :n], kkt[:n, n:], kkt[n:, :n] = m_mat, -jc.T, jc
-    sol = np.linalg.solve(kkt, np.concatenate([tau_full - b, rhs_c]))
-    return sol[:n], sol[n:]
+    # redundant closure rows (over-constrained loops: eye_4dof 11 rows of rank 8) make
+    # the KKT matrix singular: solve on an independent set Uᵣᵀ J_c, λ = Uᵣ λᵣ
+    basis = np.eye(m)
+    if m and constraint_rank(jc) < m:
+        basis = np.linalg.svd(jc)[0][:, : constraint_rank(jc)]
+    jr, r = basis.T @ jc, basis.shape[1]
+    kkt = np.zeros((n + r, n + r))
+    kkt[:n, :n], kkt[:n, n:], kkt[n:, :n] = m_mat, -jr.T, jr
+    sol = np.linalg.solve(kkt, np.concatenate([tau_full - b, basis.T @ rhs_c]))
+    return sol[:n], basis @ sol[n:]
 
 
 def pin_constraint_dynamics(

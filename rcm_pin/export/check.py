@@ -150,22 +150,13 @@ def rigid_limit_error(
 ) -> float:
     """|q̈_MuJoCo − G_v q̈_rcm-pin| / |G_v q̈_rcm-pin| at a closed state (J_c v = 0), MuJoCo's
     rigid limit against :func:`rcm_pin.dynamics.constrained_forward_dynamics` (serial
-    mechanisms: tree forward dynamics M⁻¹(τ − b)). Where the closure rows are redundant
-    (J_c rank deficient: its KKT matrix is singular) the reference is rcm-pin's second route,
-    ``pin.constraintDynamics`` (:func:`rcm_pin.dynamics.constrained.pin_constraint_dynamics`)."""
+    mechanisms: tree forward dynamics M⁻¹(τ − b)); redundant closure rows (eye_4dof,
+    translational_3ppapa_loops) included: the KKT solve keeps an independent set."""
     acc_mj = rigid_acceleration(mj, mech, q_pin, v_pin, tau)
     if mech.loops is not None:
-        from rcm_pin.dynamics.constrained import (
-            forward_dynamics,
-            pin_constraint_dynamics,
-            world_closure,
-        )
+        from rcm_pin.dynamics.constrained import forward_dynamics
 
-        jac = world_closure(mech, q_pin, v_pin)[1]
-        if np.linalg.matrix_rank(jac) == jac.shape[0]:
-            acc = forward_dynamics(mech, q_pin, v_pin, tau)[0]
-        else:  # redundant closure rows: the KKT matrix is singular, route 2 (proximal)
-            acc = pin_constraint_dynamics(mech, q_pin, v_pin, tau)
+        acc = forward_dynamics(mech, q_pin, v_pin, tau)[0]
     else:
         data = mech.model.createData()
         m_pin = pin.crba(mech.model, data, q_pin)
