@@ -53,6 +53,7 @@ SERIAL = {
     "optimize": ["--vary=l9=0.1:0.2", "--metric=x"],
     "rcm-track": ["--path=circle", "--duration=0.05"],
     "vibrations": ["--stiffness=100"],
+    "export": ["--mjcf={tmp}/m.xml"],
 }
 BEFORE = {"ocp": ["ocp", "ik"]}
 
@@ -116,7 +117,8 @@ def test_throwaway_family_runs_every_command(command, throwaway, tmp_path, capsy
 
 
 @pytest.mark.parametrize(
-    "command", ["rcm-track", "simulate", "singularities", "workspace", "accuracy", "view"]
+    "command",
+    ["rcm-track", "simulate", "singularities", "workspace", "accuracy", "view", "export"],
 )
 def test_urdf_without_family_runs_through_the_defaults(command, tmp_path, capsys):
     path = render(tmp_path, None)
