@@ -31,6 +31,7 @@ SPECIFIC = (
     "rcm_pin/report/eye_linkage.py",
     "rcm_pin/report/eye_mechanism.py",
     "rcm_pin/report/scenes.py",
+    "rcm_pin/report/mujoco.py",
     "ocp/paper000.py",
 )
 #: Modules over 300 lines, with the reason (none today).

@@ -30,6 +30,7 @@ SECTIONS: tuple[tuple[str, str], ...] = (
     ("rcm_pin.report.design", "rcm_pin.report.design"),
     ("rcm_pin.report.vibrations", "rcm_pin.report.vibrations"),
     ("rcm_pin.report.control_3dof", "rcm_pin.report.control_3dof"),
+    ("rcm_pin.report.mujoco", "rcm_pin.report.mujoco"),
 )
 
 
