@@ -136,9 +136,9 @@ def forward_dynamics(
     n, m = mech.model.nv, len(c)
     # redundant closure rows (over-constrained loops: eye_4dof 11 rows of rank 8) make
     # the KKT matrix singular: solve on an independent set Uᵣᵀ J_c, λ = Uᵣ λᵣ
-    basis = np.eye(m)
-    if m and constraint_rank(jc) < m:
-        basis = np.linalg.svd(jc)[0][:, : constraint_rank(jc)]
+    basis, rank = np.eye(m), constraint_rank(jc)
+    if rank < m:
+        basis = np.linalg.svd(jc)[0][:, :rank]
     jr, r = basis.T @ jc, basis.shape[1]
     kkt = np.zeros((n + r, n + r))
     kkt[:n, :n], kkt[:n, n:], kkt[n:, :n] = m_mat, -jr.T, jr
