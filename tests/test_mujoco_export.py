@@ -287,3 +287,28 @@ def test_cli_simulate_engine_mujoco():
     assert mj["engine"] == "mujoco" and mj["max_equality_residual"] <= settings.DRIFT_TOL
     code, stdout, _ = run(["simulate", "five_bar", "--engine", "mujoco", "--json"], ["mujoco"])
     assert code == 2 and json.loads(stdout)["error"]["type"] == "MissingExtraError"
+
+
+def test_a_mesh_outside_the_descriptions_folders_is_refused_as_by_view(tmp_path):
+    """The export reads meshes through the viewer's policy: a URDF naming a file outside its
+    folders is refused (an MJCF file makes MuJoCo read every mesh it names)."""
+    from rcm_pin.errors import MeshLocationError
+
+    secret = tmp_path / "private" / "secret.stl"
+    secret.parent.mkdir()
+    secret.write_bytes(b"solid x\nendsolid x\n")
+    robot = tmp_path / "robot"
+    robot.mkdir()
+    (robot / "r.urdf").write_text(
+        f'<robot name="r"><link name="a"><visual><geometry><mesh filename="{secret}"/>'
+        '</geometry></visual><inertial><mass value="1"/><inertia ixx="0.01" ixy="0" '
+        'ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link><link name="b">'
+        '<inertial><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" '
+        'izz="0.01"/></inertial></link><joint name="j" type="revolute"><parent link="a"/>'
+        '<child link="b"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>'
+        "</robot>"
+    )
+    mech = rcm_pin.load(robot / "r.urdf", tool_frame="b")
+    with pytest.raises(MeshLocationError, match=r"--mesh-dir PATH"):
+        to_mjcf(mech, tmp_path / "r.xml")
+    assert not (tmp_path / "r.xml").exists()

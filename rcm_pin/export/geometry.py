@@ -11,6 +11,7 @@ import numpy as np
 import pinocchio as pin
 
 from rcm_pin.model.mechanism import Mechanism
+from rcm_pin.model.meshes import drawable_urdf
 
 #: Mesh formats MuJoCo reads.
 MESH_FORMATS = (".stl", ".obj", ".msh")
@@ -29,9 +30,15 @@ def pose(elem: ET.Element, placement: pin.SE3) -> None:
 
 
 def geoms(mech: Mechanism, bodies: dict[int, ET.Element], skipped: list[str]) -> None:
-    """Visual geoms of the URDF's links (module docstring)."""
+    """Visual geoms of the URDF's links (module docstring); meshes through the viewer's
+    policy (:func:`rcm_pin.model.meshes.drawable_urdf`: a missing one left out with a
+    warning, one outside the description's folders refused).
+
+    Raises:
+        MeshLocationError: a mesh outside the allowed folders (names ``--mesh-dir``).
+    """
     full = mech.model_full
-    for link in ET.fromstring(mech.urdf).iter("link"):
+    for link in ET.fromstring(drawable_urdf(mech.urdf)).iter("link"):
         if not full.existFrame(link.attrib["name"]):
             continue
         frame = full.frames[full.getFrameId(link.attrib["name"])]

@@ -227,8 +227,10 @@ def to_mjcf(
     Raises:
         InvalidInputError: an unwritable path (missing or read-only folder, a folder),
             a bad timestep or tolerance, a joint with more than one DOF.
+        MeshLocationError: a mesh outside the description's folders (as ``view``).
 
     Warns:
+        MissingMeshWarning: a mesh file that cannot be found (left out, as ``view``).
         InertiaFloorWarning: moving bodies without mass or inertia (raised to a floor).
         InexactExportWarning: closures whose kept rows MJCF cannot express, skipped meshes.
     """
