@@ -107,18 +107,18 @@ def load(
     tool_frame = output_frame or tool_frame
     where = LoadOptions(dict(package_dirs or {}), tuple(mesh_dirs), bool(trusted))
     # the build keywords a rebuild passes on: the RCM axis and the closed output's coordinates
-    axis: dict[str, Any] = {
+    build: dict[str, Any] = {
         k: v for k, v in (("rcm_axis_frame", rcm_axis_frame), ("rcm_axis", rcm_axis)) if v
     }
     if output_coords:
-        axis["output_coords"] = parse_coords(output_coords)
+        build["output_coords"] = parse_coords(output_coords)
     if isinstance(name_or_path, Path):
-        return _load_path(name_or_path, tool_frame, rcm_frame, xacro_args, where, axis)
+        return _load_path(name_or_path, tool_frame, rcm_frame, xacro_args, where, build)
     if not isinstance(name_or_path, str) or not name_or_path.strip():
         get_entry(str(name_or_path))  # raises, listing the valid names
     if is_path_like(name_or_path):
-        return _load_path(Path(name_or_path), tool_frame, rcm_frame, xacro_args, where, axis)
-    return _load_entry(get_entry(name_or_path), tool_frame, rcm_frame, xacro_args, where, axis)
+        return _load_path(Path(name_or_path), tool_frame, rcm_frame, xacro_args, where, build)
+    return _load_entry(get_entry(name_or_path), tool_frame, rcm_frame, xacro_args, where, build)
 
 
 def from_urdf(
@@ -157,9 +157,9 @@ def _load_entry(
     rcm_frame: str | None,
     xacro_args: dict[str, Any],
     where: LoadOptions,
-    axis: dict[str, Any] | None = None,
+    build: dict[str, Any] | None = None,
 ) -> Mechanism:
-    axis = axis or {}
+    build = build or {}
     if not entry.xacro:
         if xacro_args:
             raise XacroArgumentError(
@@ -176,7 +176,7 @@ def _load_entry(
             family=entry.family,
             tool_frame=tool_frame,
             rcm_frame=rcm_frame,
-            **axis,
+            **build,
         )
     for key in entry.fixed_args:
         if key in xacro_args:
@@ -195,7 +195,7 @@ def _load_entry(
             entry.name,
             tool_frame=tool_frame,
             rcm_frame=rcm_frame,
-            **axis,
+            **build,
             **where.keywords(),
             **merged,
         )
@@ -210,7 +210,7 @@ def _load_entry(
         rcm_frame=rcm_frame,
         rebuild=rebuild,
         source=entry.xacro_path,
-        **axis,
+        **build,
     )
 
 
@@ -230,9 +230,9 @@ def _load_path(
     rcm_frame: str | None,
     xacro_args: dict[str, Any],
     where: LoadOptions,
-    axis: dict[str, Any] | None = None,
+    build: dict[str, Any] | None = None,
 ) -> Mechanism:
-    axis = axis or {}
+    build = build or {}
     if path.suffix not in (".urdf", ".xacro"):
         raise UnknownMechanismError(
             f"{str(path)!r} is neither a catalogue name nor a .urdf / .xacro file; valid: "
@@ -275,7 +275,7 @@ def _load_path(
             path,
             tool_frame=tool_frame,
             rcm_frame=rcm_frame,
-            **axis,
+            **build,
             **where.keywords(),
             **merged,
         )
@@ -290,7 +290,7 @@ def _load_path(
         rcm_frame=rcm_frame,
         rebuild=rebuild if path.suffix == ".xacro" else None,
         source=path if path.suffix == ".xacro" else None,
-        **axis,
+        **build,
     )
 
 
