@@ -20,7 +20,6 @@ The mapping (``docs/mujoco.md``):
 from __future__ import annotations
 
 import os
-import tempfile
 import warnings
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
@@ -36,6 +35,7 @@ from rcm_pin.export.geometry import floats as _f
 from rcm_pin.export.geometry import pose as _pose
 from rcm_pin.model.coupling import mimic_tags
 from rcm_pin.model.mechanism import Mechanism
+from rcm_pin.processes import atomic_write
 
 
 @dataclass(frozen=True)
@@ -249,13 +249,9 @@ def to_mjcf(
         warnings.warn(f"{mech.name}: {note}", st.InexactExportWarning, stacklevel=2)
     ET.indent(root)
     text = ET.tostring(root, encoding="unicode") + "\n"
-    fd, tmp = tempfile.mkstemp(prefix=f".{target.name}.", suffix=".tmp", dir=folder)
     try:
-        with os.fdopen(fd, "w", encoding="utf-8") as handle:
-            handle.write(text)
-        os.replace(tmp, target)
+        atomic_write(target, text.encode("utf-8"))
     except OSError as exc:
-        Path(tmp).unlink(missing_ok=True)
         raise InvalidInputError(f"cannot write {str(target)!r} ({exc.strerror})") from None
     return MjcfExport(target, exported, s, raised, tuple(inexact), tuple(skipped))
 

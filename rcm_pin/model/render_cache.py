@@ -21,7 +21,6 @@ from __future__ import annotations
 import hashlib
 import json
 import os
-import tempfile
 import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -171,16 +170,14 @@ def store(key: str, entry: Rendering) -> None:
     _memory[key] = entry
     payload = entry.payload()
     document = json.dumps({**payload, "sha256": _checksum(json.loads(json.dumps(payload)))})
-    folder, tmp = render_dir(), None
+    from rcm_pin.processes import atomic_write  # only on a render: not at import
+
+    folder = render_dir()
     try:
         folder.mkdir(parents=True, exist_ok=True)
-        fd, tmp = tempfile.mkstemp(dir=folder, prefix=f".{key[:16]}.", suffix=".tmp")
-        with os.fdopen(fd, "w") as out:
-            out.write(document)
-        os.replace(tmp, folder / f"{key}.json")
+        atomic_write(folder / f"{key}.json", document.encode())
     except OSError:  # a read-only cache still renders, only not kept on disk
-        if tmp is not None:
-            Path(tmp).unlink(missing_ok=True)
+        pass
 
 
 __all__ = ["CacheWarning", "Rendering", "cache_key", "current", "file_digest", "lookup"]
