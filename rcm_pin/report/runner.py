@@ -51,7 +51,7 @@ from pathlib import Path
 from rcm_pin.errors import MissingExtraError, require
 from rcm_pin.model.resources import urdf_dir, xacro_dir
 from rcm_pin.processes import folder_lock, process_pool, remove_temporaries
-from rcm_pin.report.cache import read_entry, write_entry
+from rcm_pin.report.cache import file_sha, read_entry, write_entry
 from rcm_pin.report.framework import Section
 
 SectionFn = Callable[[Path], Section]
@@ -84,7 +84,7 @@ def _sha(path: Path) -> str:
 @lru_cache(maxsize=4096)
 def _sha_of(path: str, mtime_ns: int, size: int) -> str:
     """SHA-256 of a file, computed once per (path, modification time, size) in a process."""
-    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+    return file_sha(Path(path))
 
 
 @lru_cache(maxsize=1)
