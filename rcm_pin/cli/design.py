@@ -10,7 +10,6 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from rcm_pin.cli._common import emit, output_path, parse_xacro_args
-from rcm_pin.processes import atomic_write, folder_lock
 
 if TYPE_CHECKING:
     from rcm_pin.design import Study
@@ -140,6 +139,7 @@ def cmd_optimize(args: argparse.Namespace) -> int:
     from rcm_pin.design.optimize import optimize
     from rcm_pin.design.plots import pareto_front
     from rcm_pin.errors import require
+    from rcm_pin.processes import atomic_write, folder_lock  # not at CLI start-up
 
     out = output_path(args.out, "--out", directory=True) if args.out else None
     if out is not None:
