@@ -78,7 +78,9 @@ class RcmIKResult:
     """An RCM IK solve.
 
     Attributes:
-        ik: the IK NLP's result (``q`` in the model's order).
+        ik: the solver's result (``q`` in the model's order; with ``solver="lm"``
+            ``ik.position_error`` is the tip error and ``ik.constraint_violation`` the RCM
+            distance below, ``ik.residual_norm`` the LM's |r|).
         rcm_error: distance of p_T from the shaft line at ``ik.q`` by Pinocchio FK [m].
         tip_error: |p_tip − p_d| by Pinocchio FK [m].
     """
