@@ -4,9 +4,13 @@ Pinocchio forward kinematics of the full arm (not the NLP's symbolic twin)."""
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 import pinocchio as pin
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from ocp.rcm import TIP_FRAME, RcmIK, tip_model
 from ocp.rcm_tracking import RcmTrackingOCP
@@ -27,6 +31,7 @@ def setup(request):
     return _trocar_setup(request.param)
 
 
+@functools.cache
 def _trocar_setup(name):
     """The arm at a fixed, reachable trocar 0.15 m below its home tool frame."""
     mech = load(name)
@@ -101,6 +106,28 @@ def test_lm_route_meets_both_goals_and_agrees_with_ipopt(setup):
         np.testing.assert_allclose([rcm, err], [a.rcm_error, a.tip_error], atol=EXACT)
         assert max(_fk_errors(s, b.ik.q, p)) <= SOLVER  # IPOPT's point: the same zero residual
         assert np.all(a.ik.q >= lo) and np.all(a.ik.q <= hi)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(
+    direction=st.tuples(*[st.floats(-1.0, 1.0)] * 3).filter(lambda v: np.linalg.norm(v) > 0.1),
+    radius=st.floats(0.0, 0.03),
+)
+def test_lm_route_reaches_every_target_near_home(direction, radius):
+    """Every target within 3 cm of panda's home tip, solved from home: both goals by FK
+    within 1e-9 m, inside the joint limits."""
+    s = _trocar_setup("panda")
+    if "panda" not in _LM:
+        _LM["panda"] = _home_tip(s)
+    ik, q, tip = _LM["panda"]
+    p = tip + radius * np.asarray(direction) / np.linalg.norm(direction)
+    r = ik.solve(p, q)
+    assert r.ik.success and max(_fk_errors(s, r.ik.q, p)) <= SOLVER
+    m = s.chain.model
+    assert np.all(r.ik.q >= m.lowerPositionLimit) and np.all(r.ik.q <= m.upperPositionLimit)
+
+
+_LM: dict[str, tuple] = {}
 
 
 def test_lm_route_keeps_a_binding_joint_limit():
