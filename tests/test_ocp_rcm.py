@@ -167,6 +167,10 @@ def test_lm_route_raises_on_an_unreachable_target(setup):
     np.testing.assert_allclose([rcm, tip_err], [r.constraint_violation, r.position_error],
                                atol=EXACT)  # fmt: skip
     assert not ik.solve(p, q, raise_on_failure=False).ik.success
+    # IPOPT's route raises the same error type; its point keeps the RCM, the LM's does not
+    with pytest.raises(UnreachablePoseError) as nlp:
+        RcmIK(s.chain.model, s.chain.tool, solver="ipopt").solve(p, q)
+    assert nlp.value.result.constraint_violation <= SOLVER < r.constraint_violation
 
 
 def test_solver_choice_is_checked():
