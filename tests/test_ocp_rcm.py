@@ -4,9 +4,13 @@ Pinocchio forward kinematics of the full arm (not the NLP's symbolic twin)."""
 
 from __future__ import annotations
 
+import functools
+
 import numpy as np
 import pinocchio as pin
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from ocp.rcm import TIP_FRAME, RcmIK, tip_model
 from ocp.rcm_tracking import RcmTrackingOCP
@@ -14,7 +18,7 @@ from rcm_pin.catalog import load
 from rcm_pin.control.rcm_loop import track
 from rcm_pin.control.rcm_qp import RcmQP
 from rcm_pin.control.rcm_task import line_distance, rcm_state, update_kinematics
-from rcm_pin.errors import InvalidInputError
+from rcm_pin.errors import InvalidInputError, UnreachablePoseError
 from rcm_pin.studies.rcm_comparison import make_setup, start_configuration
 from rcm_pin.studies.surgical_paths import surgical_path
 
@@ -24,13 +28,18 @@ SOLVER = 1e-9
 
 @pytest.fixture(scope="module", params=["panda", "ur5"])
 def setup(request):
+    return _trocar_setup(request.param)
+
+
+@functools.cache
+def _trocar_setup(name):
     """The arm at a fixed, reachable trocar 0.15 m below its home tool frame."""
-    mech = load(request.param)
+    mech = load(name)
     home = mech.home
     data = mech.model.createData()
     pin.framesForwardKinematics(mech.model, data, mech.to_pin(home))
     M = data.oMf[mech.tool_frame_id]
-    return make_setup(request.param, M.translation + 0.15 * M.rotation[:, 2])
+    return make_setup(name, M.translation + 0.15 * M.rotation[:, 2])
 
 
 def _fk_errors(s, q_chain, target):
@@ -68,6 +77,114 @@ def test_ik_with_exact_rcm_meets_both_goals(setup):
         assert np.all(r.ik.q >= s.chain.model.lowerPositionLimit)
         assert np.all(r.ik.q <= s.chain.model.upperPositionLimit)
         q = r.ik.q
+
+
+def _home_tip(s):
+    ik = RcmIK(s.chain.model, s.chain.tool)
+    q = s.home[s.chain.active]
+    pin.framesForwardKinematics(ik.model, ik.data, q)
+    return ik, q, ik.data.oMf[ik.tip_id].translation.copy()
+
+
+def test_lm_route_meets_both_goals_and_agrees_with_ipopt(setup):
+    """Seeded targets within 3 cm of the home tip (reachable: IPOPT's route reaches them
+    too): RCM and tip within 1e-9 m by the tests' own FK, joint limits kept, and the
+    residuals of the two routes agree (their q differ: 7 joints, 5 equations)."""
+    s = setup
+    lm, q, tip = _home_tip(s)
+    assert lm.solver == "lm"
+    ipopt = RcmIK(s.chain.model, s.chain.tool, solver="ipopt")
+    rng = np.random.default_rng(27)
+    lo, hi = s.chain.model.lowerPositionLimit, s.chain.model.upperPositionLimit
+    for _ in range(6):
+        d = rng.normal(size=3)
+        p = tip + 0.03 * rng.uniform() ** (1 / 3) * d / np.linalg.norm(d)
+        a, b = lm.solve(p, q), ipopt.solve(p, q)
+        assert a.ik.success and a.ik.solver == "lm" and b.ik.success
+        rcm, err = _fk_errors(s, a.ik.q, p)
+        assert rcm <= SOLVER and err <= SOLVER
+        np.testing.assert_allclose([rcm, err], [a.rcm_error, a.tip_error], atol=EXACT)
+        assert max(_fk_errors(s, b.ik.q, p)) <= SOLVER  # IPOPT's point: the same zero residual
+        assert np.all(a.ik.q >= lo) and np.all(a.ik.q <= hi)
+
+
+@settings(max_examples=60, deadline=None, suppress_health_check=[HealthCheck.too_slow])
+@given(
+    direction=st.tuples(*[st.floats(-1.0, 1.0)] * 3).filter(lambda v: np.linalg.norm(v) > 0.1),
+    radius=st.floats(0.0, 0.03),
+)
+def test_lm_route_reaches_every_target_near_home(direction, radius):
+    """Every target within 3 cm of panda's home tip, solved from home: both goals by FK
+    within 1e-9 m, inside the joint limits."""
+    s = _trocar_setup("panda")
+    if "panda" not in _LM:
+        _LM["panda"] = _home_tip(s)
+    ik, q, tip = _LM["panda"]
+    p = tip + radius * np.asarray(direction) / np.linalg.norm(direction)
+    r = ik.solve(p, q)
+    assert r.ik.success and max(_fk_errors(s, r.ik.q, p)) <= SOLVER
+    m = s.chain.model
+    assert np.all(r.ik.q >= m.lowerPositionLimit) and np.all(r.ik.q <= m.upperPositionLimit)
+
+
+_LM: dict[str, tuple] = {}
+
+
+def test_lm_route_keeps_a_binding_joint_limit():
+    """panda's first joint boxed to ±0.01 rad around home: the projected LM reaches the
+    target with that joint inside its box (the six others make up for it)."""
+    s = _trocar_setup("panda")
+    _, q, tip = _home_tip(s)
+    model = pin.Model(s.chain.model)
+    model.lowerPositionLimit[0], model.upperPositionLimit[0] = q[0] - 0.01, q[0] + 0.01
+    p = tip + np.array([0.0, 0.02, 0.0])  # sideways: the base joint would turn
+    free = RcmIK(s.chain.model, s.chain.tool).solve(p, q)
+    assert abs(free.ik.q[0] - q[0]) > 0.01  # the limit binds
+    r = RcmIK(model, s.chain.tool).solve(p, q)
+    assert r.ik.success and r.rcm_error <= SOLVER and r.tip_error <= SOLVER
+    assert q[0] - 0.01 <= r.ik.q[0] <= q[0] + 0.01
+    assert np.all(r.ik.q >= model.lowerPositionLimit) and np.all(r.ik.q <= model.upperPositionLimit)
+
+
+def test_lm_route_raises_on_an_unreachable_target(setup):
+    s = setup
+    ik, q, tip = _home_tip(s)
+    p = np.asarray(s.tool.trocar) + np.array([0.0, 0.0, -3.0])  # 3 m below the trocar
+    with pytest.raises(UnreachablePoseError) as err:
+        ik.solve(p, q)
+    r = err.value.result
+    assert r.solver == "lm" and not r.success and r.status == "stationary"
+    assert str(err.value) == (
+        f"unreachable target: IK of frame 'rcm_tip' (lm, stationary, {r.iterations} it): "
+        f"residual {r.residual_norm:.3g} > reach_tol 1e-09, position error "
+        f"{r.position_error:.3g} m, constraint violation {r.constraint_violation:.3g}; the "
+        "solver stopped at a stationary point, which a local method cannot tell from a local "
+        "minimum: valid targets lie in the image of the joint limits (retry with restarts > "
+        "0 to rule out a local minimum)"
+    )
+    assert r.residual_norm >= 3.0 - 0.15 - 1.5  # farther than any arm reaches (1.5 m)
+    rcm, tip_err = _fk_errors(s, r.q, p)
+    np.testing.assert_allclose([rcm, tip_err], [r.constraint_violation, r.position_error],
+                               atol=EXACT)  # fmt: skip
+    assert not ik.solve(p, q, raise_on_failure=False).ik.success
+    # IPOPT's route raises the same error type; its point keeps the RCM, the LM's does not
+    with pytest.raises(UnreachablePoseError) as nlp:
+        RcmIK(s.chain.model, s.chain.tool, solver="ipopt").solve(p, q)
+    assert nlp.value.result.constraint_violation <= SOLVER < r.constraint_violation
+
+
+def test_solver_choice_is_checked():
+    s = make_setup("panda", (0.4, 0.0, 0.3))
+    with pytest.raises(InvalidInputError) as err:
+        RcmIK(s.chain.model, s.chain.tool, tolerance=1e-3, solver="lm")
+    assert str(err.value) == (
+        "solver 'lm' solves the RCM as an equality; valid: tolerance=0, or solver='ipopt' "
+        "for an RCM tolerance"
+    )
+    with pytest.raises(InvalidInputError) as err:
+        RcmIK(s.chain.model, s.chain.tool, solver="snopt")  # type: ignore[arg-type]
+    assert str(err.value) == "solver must be 'auto', 'lm' or 'ipopt', got 'snopt'"
+    assert RcmIK(s.chain.model, s.chain.tool, tolerance=1e-3).solver == "ipopt"
 
 
 def test_ik_with_rcm_tolerance_stays_within_it(setup):
