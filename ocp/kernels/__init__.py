@@ -18,6 +18,10 @@ Registered as the entry point ``casadi = "ocp.kernels:provider"`` of the group
 * ``serial_rhs(plant, controller)``: the compiled right-hand side of a serial ``simulate``
   (:mod:`ocp.kernels.serial_rhs`; ``RCM_PIN_KERNEL_VM=1`` keeps CasADi's VM), or None
   for a pair it does not mirror (:func:`rcm_pin.control.backends.compiled_unsupported`).
+* ``closed_rhs(plant, controller)``: the compiled right-hand side of a closed ``simulate``
+  (:mod:`ocp.kernels.closed_rhs`), or None for a pair it does not mirror
+  (:func:`rcm_pin.control.closed_backend.closed_unsupported`, closure rows of less than
+  full rank).
 """
 
 from __future__ import annotations
@@ -29,6 +33,7 @@ import threading
 import casadi as ca
 import numpy as np
 
+from ocp.kernels.closed_rhs import ClosedRHSKernel, closed_rhs
 from ocp.kernels.closure_kernel import COMPILE_AFTER, ClosureNewtonKernel, SharedFunction
 from ocp.kernels.newton_function import build, structure_key, supported
 from ocp.kernels.serial_rhs import SerialRHSKernel, serial_rhs
@@ -115,6 +120,11 @@ class CasadiKernels:
         """The compiled right-hand side of ``plant`` under ``controller``, or None where
         it does not mirror the Python hot path (:mod:`ocp.kernels.serial_rhs`)."""
         return serial_rhs(plant, controller, vm=_vm_only())
+
+    def closed_rhs(self, plant: Mechanism, controller: object) -> ClosedRHSKernel | None:
+        """The compiled right-hand side of a closed ``plant`` under ``controller``, or None
+        where it does not mirror the Python hot path (:mod:`ocp.kernels.closed_rhs`)."""
+        return closed_rhs(plant, controller, vm=_vm_only())
 
 
 def same_residual(mech: Mechanism, fun: ca.Function, tol: float = 1e-9) -> bool:
