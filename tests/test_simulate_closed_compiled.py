@@ -5,7 +5,8 @@ compiled CasADi function (``ocp.kernels.closed_rhs``, ``rcm_pin.control.closed_b
   ``ComputedTorque.effort`` / ``constrained.forward_dynamics`` on seeded random states of
   the 3-RRR and the five-bar (with saturating limits, and a plant whose masses differ
   from the controller's model);
-* whole runs of both backends: the same trajectory at the integration tolerance;
+* whole runs of both backends: the same trajectory at the integration tolerance; the
+  output samples from the kernel equal the Python hot path's on the same states;
 * the declining path: near a rank loss of the closure rows a call declines and the
   Python right-hand side answers from the same inputs;
 * the unsupported cases: typed errors naming why.
@@ -21,8 +22,10 @@ import pytest
 import rcm_pin
 from ocp.kernels.closed_rhs import closed_rhs as build_kernel
 from rcm_pin.control.backends import COVERS, compiled_rhs
+from rcm_pin.control.closed_backend import samples_of
 from rcm_pin.control.closed_hot_path import ClosedLaw, ClosedPlant
 from rcm_pin.control.scenario import controller, run, scenarios, start_state
+from rcm_pin.control.simulate import simulate
 from rcm_pin.dynamics import constrained as cd
 from rcm_pin.dynamics.tree import mass_matrix_pin
 from rcm_pin.errors import InvalidInputError
@@ -113,8 +116,28 @@ def test_a_compiled_run_is_the_python_run_at_the_integration_tolerance(
     np.testing.assert_array_equal(fast.t, py.t)
     np.testing.assert_allclose(fast.q, py.q, rtol=0, atol=Q_TOL)
     np.testing.assert_allclose(fast.v, py.v, rtol=0, atol=V_TOL)
-    # the samples are recomputed by the Python hot path from the states of either run
     np.testing.assert_allclose(fast.x, py.x, rtol=0, atol=Q_TOL)
+
+
+def test_the_kernel_samples_are_the_python_samples() -> None:
+    mech = rcm_pin.load("planar_3rrr")
+    sc = dataclasses.replace(scenarios(mech)["circle"], duration=0.2, samples=41)
+    ctrl = dataclasses.replace(controller(mech, sc), limits=0.15)  # [N·m]: clips part of the run
+    res = simulate(mech, ctrl, sc.duration, *start_state(mech, sc),
+                   options=sc.simulation_options(mech, backend="compiled"))  # fmt: skip
+    law = ClosedLaw(ctrl, mech)
+    rhs = compiled_rhs(mech, ctrl, BAUMGARTE)
+    got, expected = samples_of(rhs, law, res.t, res.q, res.v), law.samples(res.t, res.q, res.v)
+    assert got is not expected and expected.saturated.any()  # the kernel's, with clipping
+    scale = np.abs(expected.tau).max()
+    np.testing.assert_allclose(got.tau, expected.tau, rtol=RTOL, atol=RTOL * scale)
+    np.testing.assert_array_equal(got.saturated, expected.saturated)
+    np.testing.assert_array_equal(got.alternate, expected.alternate)
+    np.testing.assert_array_equal(np.isnan(got.measure), np.isnan(expected.measure))
+    np.testing.assert_allclose(got.x, expected.x, rtol=0, atol=RTOL)
+    np.testing.assert_allclose(got.xd, expected.xd, rtol=0, atol=RTOL * np.abs(expected.xd).max())
+    np.testing.assert_allclose(res.tau, expected.tau, rtol=RTOL, atol=RTOL * scale)  # simulate's
+    assert samples_of(None, law, res.t, res.q, res.v).tau.shape == expected.tau.shape
 
 
 def test_a_call_near_a_rank_loss_declines_and_python_answers() -> None:

@@ -39,7 +39,7 @@ import numpy as np
 
 from rcm_pin.control.closed_backend import closed_compiled_rhs, closed_unsupported
 from rcm_pin.control.computed_torque import ComputedTorque
-from rcm_pin.control.references import CartesianTrajectory, Reference
+from rcm_pin.control.references import CartesianTrajectory, CircleWithAngle, Reference
 from rcm_pin.errors import InvalidInputError
 from rcm_pin.model import kernels
 from rcm_pin.model.mechanism import Mechanism
@@ -93,6 +93,8 @@ def stacked_reference(ref: Reference) -> Callable[[float], list[float] | np.ndar
     :func:`~rcm_pin.control.hot_path.reference_function`: x_T = c + a sin φ, ẋ_T = (a ω)
     cos φ, ẍ_T = (−a ω²) sin φ with φ = ω t + φ₀; the sines may differ from numpy's by an
     ulp), about 1 µs instead of 5; any other reference: its ``evaluate``, concatenated."""
+    if type(ref) is CircleWithAngle:
+        return _circle_with_angle(ref)
     if type(ref) is not CartesianTrajectory:
         return lambda t: np.concatenate(ref.evaluate(t))
     dim = np.broadcast(np.asarray(ref.centre), np.asarray(ref.amplitude)).size
@@ -111,6 +113,23 @@ def stacked_reference(ref: Reference) -> Callable[[float], list[float] | np.ndar
             xd.append(aw * cos(arg))
             xdd.append(aw2 * s)
         return x + xd + xdd
+
+    return evaluate
+
+
+def _circle_with_angle(ref: CircleWithAngle) -> Callable[[float], list[float]]:
+    """:meth:`CircleWithAngle.evaluate` on Python floats, stacked (the same operations in
+    the same order; ``math``'s sine and cosine)."""
+    w = 2.0 * math.pi / ref.period
+    cx, cy = float(ref.centre[0]), float(ref.centre[1])
+    r, a, phi0, mw2 = float(ref.radius), float(ref.phi_amp), float(ref.phi0), -(w**2)
+    sin, cos = math.sin, math.cos
+
+    def evaluate(t: float) -> list[float]:
+        c, s = cos(w * t), sin(w * t)
+        x, y, phi = cx + r * c, cy + r * s, phi0 + a * s
+        return [x, y, phi, -r * w * s, r * w * c, a * w * c,
+                mw2 * (x - cx), mw2 * (y - cy), mw2 * (phi - phi0)]  # fmt: skip
 
     return evaluate
 

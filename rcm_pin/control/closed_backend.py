@@ -7,8 +7,9 @@ that equals :class:`~rcm_pin.control.closed_hot_path.ClosedLaw` and
 :class:`~rcm_pin.control.closed_hot_path.ClosedPlant` to rounding. It is built for
 closure rows of full rank; a call where the plant's J_c is near a rank loss (or where
 the result is not finite) declines, and that call runs the Python route (``fallback``)
-from the same inputs. The output samples (efforts, task values) are recomputed by the
-Python hot path, as for a serial plant.
+from the same inputs. The output samples (efforts, saturation, the plant's task value and
+rate) come from the kernel too (:func:`samples_of`; the law's outputs equal the Python
+hot path's to rounding), and from the Python hot path where one is not finite.
 
 Covered (:func:`closed_unsupported`): a task-space ComputedTorque on a closed model
 without drive switching, plant and model Euclidean (no continuous joints, q and q̇ in
@@ -24,6 +25,7 @@ from typing import Any
 import numpy as np
 
 from rcm_pin.control.computed_torque import ComputedTorque
+from rcm_pin.control.hot_path import SampledEfforts
 from rcm_pin.model.mechanism import Mechanism
 
 RHS = Callable[[float, np.ndarray], np.ndarray]
@@ -76,8 +78,35 @@ def closed_compiled_rhs(
             return fallback(t, y)
         return out  # type: ignore[no-any-return]
 
+    def samples(t: np.ndarray, q: np.ndarray, v: np.ndarray, drive_v: Any) -> Any:
+        count = len(t)
+        tau, sat = np.zeros((count, v.shape[1])), np.zeros(count, dtype=bool)
+        x: list[np.ndarray] = []
+        xd: list[np.ndarray] = []
+        for i in range(count):
+            out = bound.outputs(np.concatenate([q[i], v[i]]), reference(float(t[i])))
+            tau[i, drive_v], sat[i] = out[1], bool(np.any(out[1] != out[2]))
+            x.append(out[3])
+            xd.append(out[4])
+        if not (np.isfinite(tau).all() and np.isfinite(x).all() and np.isfinite(xd).all()):
+            return None
+        no = np.zeros(count, dtype=bool)
+        return SampledEfforts(tau, sat, no, np.full(count, np.nan), np.array(x), np.array(xd))
+
     rhs.bound = bound  # type: ignore[attr-defined]
+    rhs.samples = samples  # type: ignore[attr-defined]
     return rhs
 
 
-__all__ = ["closed_compiled_rhs", "closed_unsupported"]
+def samples_of(
+    fast: RHS | None, law: Any, t: np.ndarray, q: np.ndarray, v: np.ndarray
+) -> SampledEfforts:
+    """The output samples of a run: from the closed kernel of a :func:`closed_compiled_rhs`
+    ``fast`` where it answers (module docstring), else ``law.samples`` (the Python hot
+    path of :meth:`~rcm_pin.control.computed_torque.ComputedTorque.hot_path_law`)."""
+    kernel_samples = getattr(fast, "samples", None)
+    out = None if kernel_samples is None else kernel_samples(t, q, v, law.drive_v)
+    return law.samples(t, q, v) if out is None else out  # type: ignore[no-any-return]
+
+
+__all__ = ["closed_compiled_rhs", "closed_unsupported", "samples_of"]

@@ -40,6 +40,7 @@ import numpy as np
 
 from rcm_pin.control.backends import compiled_rhs
 from rcm_pin.control.capabilities import EventFunction, StopCondition, scenario_source
+from rcm_pin.control.closed_backend import samples_of
 from rcm_pin.control.closed_hot_path import ClosedPlant
 from rcm_pin.control.computed_torque import ComputedTorque
 from rcm_pin.control.hot_path import SerialPlant, free_samples
@@ -216,7 +217,7 @@ def simulate(
     elif sol.status < 0:
         status = f"failed: {sol.message}"
     q, v = np.ascontiguousarray(sol.y[:n].T), np.ascontiguousarray(sol.y[n:].T)
-    samples_at = free_samples(len(sol.t), nv) if law is None else law.samples(sol.t, q, v)
+    samples_at = free_samples(len(sol.t), nv) if law is None else samples_of(fast, law, sol.t, q, v)
     result = SimulationResult.build(
         plant, controller, sol.t, q, v, status, wall, int(sol.nfev), samples_at
     )
