@@ -210,3 +210,24 @@ def test_one_kernel_per_pair_and_the_vm_computes_the_same() -> None:
     np.testing.assert_allclose(fast, slow, rtol=1e-13, atol=1e-13 * np.abs(slow).max())
     with kernels.disabled():
         assert kernels.closed_rhs(mech, a) is None
+
+
+def test_cli_backend_flag_on_a_closed_plant(capsys: pytest.CaptureFixture[str]) -> None:
+    import json
+
+    from rcm_pin.cli import main
+
+    base = ["simulate", "planar_3rrr", "--duration", "0.1", "--json"]
+    assert main([*base, "--backend", "compiled"]) == 0
+    fast = json.loads(capsys.readouterr().out)["runs"][0]
+    assert main(base) == 0
+    py = json.loads(capsys.readouterr().out)["runs"][0]
+    assert fast["status"] == py["status"] == "completed"
+    # the same trajectory at the integration tolerance (Q_TOL): the task error likewise
+    assert abs(fast["rms_error"] - py["rms_error"]) <= Q_TOL
+    assert (
+        main(["simulate", "five_bar", "--duration", "0.1", "--json", "--backend", "compiled"]) == 2
+    )
+    error = json.loads(capsys.readouterr().out)["error"]
+    why = _message("five_bar", "drive switching is not supported")
+    assert error == {"type": "InvalidInputError", "message": why}

@@ -16,7 +16,6 @@ import casadi as ca
 import numpy as np
 
 from ocp.closure import log3
-from ocp.kernels.newton_function import KAPPA_LIMIT
 from ocp.kernels.serial_rhs import _inertias
 from ocp.symbolic import SymbolicModel
 from rcm_pin.control.computed_torque import ComputedTorque
@@ -152,7 +151,7 @@ def structure_key(plant: Mechanism, controller: ComputedTorque) -> str:
     import pinocchio as pin
 
     mech, task = controller.model, controller.task_output
-    parts = [_SOURCES, str(pin.__version__), str(KAPPA_LIMIT)]
+    parts = [_SOURCES, str(pin.__version__)]
     for m in (plant, mech):
         loops = m.loops
         assert loops is not None
