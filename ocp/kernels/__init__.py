@@ -29,15 +29,18 @@ from __future__ import annotations
 import hashlib
 import os
 import threading
+from typing import TYPE_CHECKING
 
 import casadi as ca
 import numpy as np
 
-from ocp.kernels.closed_rhs import ClosedRHSKernel, closed_rhs
 from ocp.kernels.closure_kernel import COMPILE_AFTER, ClosureNewtonKernel, SharedFunction
 from ocp.kernels.newton_function import build, structure_key, supported
 from ocp.kernels.serial_rhs import SerialRHSKernel, serial_rhs
 from rcm_pin.model.mechanism import Mechanism
+
+if TYPE_CHECKING:
+    from ocp.kernels.closed_rhs import ClosedRHSKernel
 
 #: Unrolled Newton iterations per call of the compiled function.
 CHUNK = 4
@@ -123,7 +126,11 @@ class CasadiKernels:
 
     def closed_rhs(self, plant: Mechanism, controller: object) -> ClosedRHSKernel | None:
         """The compiled right-hand side of a closed ``plant`` under ``controller``, or None
-        where it does not mirror the Python hot path (:mod:`ocp.kernels.closed_rhs`)."""
+        where it does not mirror the Python hot path (:mod:`ocp.kernels.closed_rhs`;
+        imported on the first request, 15–20 ms that the closure Newton's first call
+        does not pay)."""
+        from ocp.kernels.closed_rhs import closed_rhs
+
         return closed_rhs(plant, controller, vm=_vm_only())
 
 
