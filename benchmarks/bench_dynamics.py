@@ -11,7 +11,10 @@ simulations and the floors run interleaved (one of each per round):
   times, the per-call time of both right-hand sides alone and its trajectory differences
   to the ``serial`` line (and of both to a tight-tolerance run, rtol 1e-12, atol 1e-14);
 * ``closed``: the 3-RRR tracking scenario (``scenarios(load("planar_3rrr"))["circle"]``,
-  paper 004's law, run by ``rcm_pin.control.scenario.run``; constrained KKT dynamics).
+  paper 004's law, run by ``rcm_pin.control.scenario.run``; constrained KKT dynamics);
+* ``closed_compiled``: the same run with ``backend="compiled"`` (the closed right-hand
+  side as one compiled CasADi function, ``rcm_pin.control.closed_backend``), with its
+  trajectory differences to the ``closed`` line.
 
 Each line: wall time per simulated second (``wall``: simulate as called, output samples
 included; ``integration``: its ``solve_ivp`` part) and per right-hand side, and its ratios
@@ -340,7 +343,7 @@ def floors(line: dict[str, Any], pin_us: float, integ: dict[str, Any]) -> dict[s
     return out
 
 
-def closed_case(duration: float | None) -> Case:
+def closed_case(duration: float | None, backend: str = "python") -> Case:
     """planar_3rrr, the ``circle`` tracking scenario."""
     mech = rcm_pin.load("planar_3rrr")
     sc = scenarios(mech)["circle"]
@@ -348,8 +351,8 @@ def closed_case(duration: float | None) -> Case:
         sc = dataclasses.replace(sc, duration=duration)
     info = {"mechanism": "planar_3rrr", "scenario": f"circle: {sc.description}",
             "simulated_s": sc.duration, "tolerances": [sc.rtol, sc.atol],
-            "samples": sc.samples}  # fmt: skip
-    return info, lambda: run(mech, sc), mech
+            "samples": sc.samples, "backend": backend}  # fmt: skip
+    return info, lambda: run(mech, sc, backend=backend), mech
 
 
 def per_call_us(timed: dict[str, Timed], name: str) -> float:
@@ -369,6 +372,8 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     k_info, k_run, _ = serial_case(args.duration, "compiled")
     k_warm = k_run()  # builds (or loads) the compiled function
     c_info, c_run, c_mech = closed_case(args.closed_duration)
+    kc_info, kc_run, _ = closed_case(args.closed_duration, "compiled")
+    kc_warm = kc_run()  # builds (or loads) the compiled function
     s_warm, c_warm = s_run(), c_run()  # warm-up; states for the Pinocchio floors
     s_solve, s_alone = integrator(
         2 * s_warm.q.shape[1], args.duration, s_info["samples"], tuple(s_info["tolerances"])
@@ -378,15 +383,17 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         tuple(c_info["tolerances"]),
     )  # fmt: skip
     timed = repeated(
-        {"serial": s_run, "serial_compiled": k_run, "closed": c_run,
+        {"serial": s_run, "serial_compiled": k_run, "closed": c_run, "closed_compiled": kc_run,
          "serial_pin": serial_pin(s_mech, s_warm, 30),
-         "closed_pin": closed_pin(c_mech, c_warm, 10),
+         "closed_pin": closed_pin(c_mech, c_warm, 50),
          "serial_dop853": s_solve, "serial_rhs": s_alone,
          "closed_dop853": c_solve, "closed_rhs": c_alone},
         args.repeat,
     )  # fmt: skip
     lines = {}
-    for name, info in (("serial", s_info), ("serial_compiled", k_info), ("closed", c_info)):
+    cases = (("serial", s_info), ("serial_compiled", k_info), ("closed", c_info),
+             ("closed_compiled", kc_info))  # fmt: skip
+    for name, info in cases:
         ln = {**info, **line(timed[name], info.get("simulated_s", args.duration))}
         base = name.split("_")[0]  # the compiled line has the serial line's floors
         ln["pinocchio_us_per_rhs"] = per_call_us(timed, f"{base}_pin")
@@ -398,7 +405,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
             "us_per_rhs": per_call_us(timed, f"{base}_dop853") - trivial,
         }
         ln.update(floors(ln, ln["pinocchio_us_per_rhs"], ln["integrator"]))
-        if name != "serial_compiled":  # (cProfile cannot see inside the compiled call)
+        if not name.endswith("_compiled"):  # (cProfile cannot see inside the compiled call)
             ln["profile"] = pinocchio_share(s_run if name == "serial" else c_run)
         lines[name] = ln
     serial, closed, compiled = lines["serial"], lines["closed"], lines["serial_compiled"]
@@ -410,6 +417,11 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     serial["max_difference_to_tight_run"] = differences(timed["serial"].result, tight)
     compiled["costs"] = compiled_costs(args.duration)
     compiled["warm_up_status"] = k_warm.status
+    closed_compiled = lines["closed_compiled"]
+    closed_compiled["max_difference_to_python_backend"] = differences(
+        timed["closed_compiled"].result, timed["closed"].result
+    )
+    closed_compiled["warm_up_status"] = kc_warm.status
     doc = {
         "benchmark": "simulate (wall time per simulated second) against its floors",
         "repeat": args.repeat,
@@ -417,10 +429,14 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         "serial": serial,
         "serial_compiled": compiled,
         "closed": closed,
+        "closed_compiled": closed_compiled,
         "ratios": [
             ratio("rcm_bevel computed torque, compiled backend, wall per simulated second",
                   "the same, python backend",
                   compiled["wall_per_simulated_s"] / serial["wall_per_simulated_s"]),
+            ratio("planar_3rrr circle, compiled backend, wall per simulated second",
+                  "the same, python backend",
+                  closed_compiled["wall_per_simulated_s"] / closed["wall_per_simulated_s"]),
             ratio("planar_3rrr circle, wall per simulated second",
                   "rcm_bevel computed torque, wall per simulated second",
                   closed["wall_per_simulated_s"] / serial["wall_per_simulated_s"]),

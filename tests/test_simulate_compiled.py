@@ -169,8 +169,8 @@ def test_unsupported_cases_raise_and_name_why() -> None:
          "a redundant task (3 rows, 6 coordinates) is not supported"),
         (bevel, ComputedTorque(bevel, REF, Gains(400.0, 30.0), space="joint"),
          "joint-space control is not supported"),
-        (closed, ComputedTorque(closed, TRAJECTORIES["rig_circle"], Gains(720.0, 12.0)),
-         "closed mechanisms are not supported"),
+        (bevel, ComputedTorque(closed, TRAJECTORIES["rig_circle"], Gains(720.0, 12.0)),
+         "closed mechanisms are not supported"),  # a serial plant, a closed model
         (bevel, None, "it needs a ComputedTorque controller"),
     ]  # fmt: skip
     for mech, ctrl, why in cases:

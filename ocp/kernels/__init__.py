@@ -18,6 +18,10 @@ Registered as the entry point ``casadi = "ocp.kernels:provider"`` of the group
 * ``serial_rhs(plant, controller)``: the compiled right-hand side of a serial ``simulate``
   (:mod:`ocp.kernels.serial_rhs`; ``RCM_PIN_KERNEL_VM=1`` keeps CasADi's VM), or None
   for a pair it does not mirror (:func:`rcm_pin.control.backends.compiled_unsupported`).
+* ``closed_rhs(plant, controller)``: the compiled right-hand side of a closed ``simulate``
+  (:mod:`ocp.kernels.closed_rhs`), or None for a pair it does not mirror
+  (:func:`rcm_pin.control.closed_backend.closed_unsupported`, closure rows of less than
+  full rank).
 """
 
 from __future__ import annotations
@@ -25,6 +29,7 @@ from __future__ import annotations
 import hashlib
 import os
 import threading
+from typing import TYPE_CHECKING
 
 import casadi as ca
 import numpy as np
@@ -33,6 +38,9 @@ from ocp.kernels.closure_kernel import COMPILE_AFTER, ClosureNewtonKernel, Share
 from ocp.kernels.newton_function import build, structure_key, supported
 from ocp.kernels.serial_rhs import SerialRHSKernel, serial_rhs
 from rcm_pin.model.mechanism import Mechanism
+
+if TYPE_CHECKING:
+    from ocp.kernels.closed_rhs import ClosedRHSKernel
 
 #: Unrolled Newton iterations per call of the compiled function.
 CHUNK = 4
@@ -115,6 +123,15 @@ class CasadiKernels:
         """The compiled right-hand side of ``plant`` under ``controller``, or None where
         it does not mirror the Python hot path (:mod:`ocp.kernels.serial_rhs`)."""
         return serial_rhs(plant, controller, vm=_vm_only())
+
+    def closed_rhs(self, plant: Mechanism, controller: object) -> ClosedRHSKernel | None:
+        """The compiled right-hand side of a closed ``plant`` under ``controller``, or None
+        where it does not mirror the Python hot path (:mod:`ocp.kernels.closed_rhs`;
+        imported on the first request, 15–20 ms that the closure Newton's first call
+        does not pay)."""
+        from ocp.kernels.closed_rhs import closed_rhs
+
+        return closed_rhs(plant, controller, vm=_vm_only())
 
 
 def same_residual(mech: Mechanism, fun: ca.Function, tol: float = 1e-9) -> bool:

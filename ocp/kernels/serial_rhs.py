@@ -209,7 +209,7 @@ def serial_rhs(plant: Mechanism, controller: object, vm: bool = False) -> Serial
     Raises:
         ValueError: the function differs from the Python hot path (:func:`check`).
     """
-    if compiled_unsupported(plant, controller) is not None:
+    if plant.loops is not None or compiled_unsupported(plant, controller) is not None:
         return None
     assert isinstance(controller, ComputedTorque)
     from ocp.compiled import compile_lazy

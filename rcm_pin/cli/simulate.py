@@ -85,7 +85,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         "--backend",
         default="python",
         help="right-hand side: python (default, every mechanism) or compiled (one compiled "
-        "CasADi function; serial, square position task; the trajectory to the tolerances)",
+        "CasADi function; serial with a square position task, or closed without drive "
+        "switching; the trajectory to the tolerances)",
     )
     p.add_argument("--plot", type=Path, metavar="DIR", help="write the figures into DIR")
     p.add_argument(

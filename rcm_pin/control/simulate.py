@@ -11,7 +11,7 @@ The right-hand side and the efforts at the output samples run the prepared, unva
 routes of :mod:`rcm_pin.control.hot_path` (serial) and
 :mod:`rcm_pin.control.closed_hot_path` (closed): the same formulas, checked against the
 public functions in tests; the inputs are validated once, here. ``backend="compiled"``
-runs a serial right-hand side as one compiled CasADi function instead
+runs the right-hand side as one compiled CasADi function instead, serial or closed
 (:mod:`rcm_pin.control.backends`: the same to rounding, the trajectory to the tolerances).
 
 Efforts come from a :class:`~rcm_pin.control.computed_torque.ComputedTorque` (whose model
@@ -40,6 +40,7 @@ import numpy as np
 
 from rcm_pin.control.backends import compiled_rhs
 from rcm_pin.control.capabilities import EventFunction, StopCondition, scenario_source
+from rcm_pin.control.closed_backend import samples_of
 from rcm_pin.control.closed_hot_path import ClosedPlant
 from rcm_pin.control.computed_torque import ComputedTorque
 from rcm_pin.control.hot_path import SerialPlant, free_samples
@@ -122,7 +123,10 @@ def simulate(
     if not (np.isfinite(duration) and duration >= MIN_DURATION):
         raise InvalidInputError(f"duration {duration} is invalid; valid: >= {MIN_DURATION:g} [s]")
     o = options
-    fast = None if o.backend == "python" else compiled_rhs(plant, controller)
+    # (refuses an uncovered pair before any other work; python_rhs is defined below)
+    fast = None
+    if o.backend != "python":
+        fast = compiled_rhs(plant, controller, o.baumgarte, lambda t, y: python_rhs(t, y))
     n, nv = plant.nq, plant.nv
     if q0 is None:
         if controller is None:
@@ -148,14 +152,17 @@ def simulate(
     tau_of = (lambda t, q, v: zero) if law is None else law.tau
     step = duration / 200
 
+    def python_rhs(t: float, y: np.ndarray) -> np.ndarray:
+        q, v = y[:n], y[n:]
+        return np.concatenate((v, accel(q, v, tau_of(t, q, v))))
+
+    integrand = python_rhs if fast is None else fast
+
     def rhs(t: float, y: np.ndarray) -> np.ndarray:
         if bar is not None and t > shown[0] + step:
             bar.update(round(t - shown[0], 6))
             shown[0] = t
-        if fast is not None:
-            return fast(t, y)
-        q, v = y[:n], y[n:]
-        return np.concatenate((v, accel(q, v, tau_of(t, q, v))))
+        return integrand(t, y)
 
     stops: list[StopCondition] = list(scenario_source(plant).stop_events(plant))
     if controller is not None and law is not None and o.stop_error is not None:
@@ -187,7 +194,7 @@ def simulate(
 
     start = time.perf_counter()
     sol = solve_ivp(
-        rhs,
+        integrand if bar is None else rhs,  # (no wrapper call without a progress bar)
         (0.0, duration),
         np.concatenate([q0, v0]),
         method=o.method,
@@ -210,7 +217,7 @@ def simulate(
     elif sol.status < 0:
         status = f"failed: {sol.message}"
     q, v = np.ascontiguousarray(sol.y[:n].T), np.ascontiguousarray(sol.y[n:].T)
-    samples_at = free_samples(len(sol.t), nv) if law is None else law.samples(sol.t, q, v)
+    samples_at = free_samples(len(sol.t), nv) if law is None else samples_of(fast, law, sol.t, q, v)
     result = SimulationResult.build(
         plant, controller, sol.t, q, v, status, wall, int(sol.nfev), samples_at
     )

@@ -29,6 +29,11 @@ Kernel kinds:
   the numpy route's result: it equals the hot path's right-hand side to rounding, which
   changes the integrator's step sequence and so the trajectory at the integration
   tolerance; ``simulate`` uses it only on request (``backend="compiled"``).
+* :meth:`KernelProvider.closed_rhs` -> :class:`ClosedRHS`: the same for a closed plant
+  (closed computed-torque law + KKT forward dynamics), cached per (plant, controller)
+  pair by :func:`closed_rhs`; bound to a run's Baumgarte numbers, a call returns None
+  where it declines (a near rank loss of the closure rows) and the caller runs the
+  Python route for that call.
 
 Switches: the environment variable :data:`DISABLE_ENV` (``RCM_PIN_NO_KERNELS=1``, read
 at import), :func:`set_enabled` and the context manager :func:`disabled` (tests compare
@@ -43,7 +48,7 @@ import warnings
 import weakref
 from collections.abc import Iterator
 from contextlib import contextmanager
-from typing import NamedTuple, Protocol
+from typing import Any, NamedTuple, Protocol, TypeVar
 
 import numpy as np
 
@@ -89,6 +94,26 @@ class SerialRHS(Protocol):
         ...
 
 
+class BoundClosedRHS(Protocol):
+    """One run's closed right-hand side (:meth:`ClosedRHS.bind`)."""
+
+    def __call__(self, y: np.ndarray, r: np.ndarray | list[float]) -> np.ndarray | None:
+        """y' (2 nv,) at y = (q, q̇) with r = (x_T, ẋ_T, ẍ_T), or None (declined)."""
+        ...
+
+    def outputs(self, y: np.ndarray, r: np.ndarray | list[float]) -> tuple[np.ndarray, ...]:
+        """(y', clipped drive efforts, unclipped ones, the plant's task x, ẋ, rank guard)."""
+        ...
+
+
+class ClosedRHS(Protocol):
+    """y' = (q̇, q̈) of a closed plant under a controller, the reference as input."""
+
+    def bind(self, baumgarte: tuple[float, float]) -> BoundClosedRHS:
+        """The right-hand side of one run with the plant's Baumgarte (ω [rad/s], ζ)."""
+        ...
+
+
 class KernelProvider(Protocol):
     """What an entry point of :data:`GROUP` names."""
 
@@ -100,6 +125,11 @@ class KernelProvider(Protocol):
         """A right-hand side kernel of ``plant`` under ``controller`` (a
         ``ComputedTorque``), or None (not supported). Optional: a provider without
         this method has no such kernel."""
+        ...
+
+    def closed_rhs(self, plant: Mechanism, controller: object) -> ClosedRHS | None:
+        """A closed right-hand side kernel of ``plant`` under ``controller``, or None.
+        Optional, as :meth:`serial_rhs`."""
         ...
 
 
@@ -188,43 +218,68 @@ _serial: weakref.WeakKeyDictionary[Mechanism, weakref.WeakKeyDictionary[object, 
 _serial = weakref.WeakKeyDictionary()
 
 
+_K = TypeVar("_K")
+#: per plant, per controller: the closed right-hand side kernel, or None
+_closed: weakref.WeakKeyDictionary[Mechanism, weakref.WeakKeyDictionary[object, ClosedRHS | None]]
+_closed = weakref.WeakKeyDictionary()
+
+
 def serial_rhs(plant: Mechanism, controller: object) -> SerialRHS | None:
     """The right-hand side kernel of ``plant`` under ``controller`` (first provider that
     has one), or None when kernels are disabled or none applies. Built on the first
     request (compiled, or loaded from the disk cache), then cached per pair."""
+    return _pair_kernel(_serial, "serial_rhs", plant, controller)
+
+
+def closed_rhs(plant: Mechanism, controller: object) -> ClosedRHS | None:
+    """The closed right-hand side kernel of ``plant`` under ``controller``, as
+    :func:`serial_rhs`."""
+    return _pair_kernel(_closed, "closed_rhs", plant, controller)
+
+
+def _pair_kernel(
+    cache: weakref.WeakKeyDictionary[Mechanism, weakref.WeakKeyDictionary[object, _K | None]],
+    kind: str,
+    plant: Mechanism,
+    controller: object,
+) -> _K | None:
     if not _enabled:
         return None
     with _lock:
-        per_plant = _serial.setdefault(plant, weakref.WeakKeyDictionary())
+        per_plant = cache.setdefault(plant, weakref.WeakKeyDictionary())
         if controller not in per_plant:
-            per_plant[controller] = _first_serial_rhs(plant, controller)
+            per_plant[controller] = _first_pair_kernel(kind, plant, controller)
         return per_plant[controller]
 
 
-def _first_serial_rhs(plant: Mechanism, controller: object) -> SerialRHS | None:
+def _first_pair_kernel(kind: str, plant: Mechanism, controller: object) -> Any:
     for p in providers():
-        build = getattr(p, "serial_rhs", None)
+        build = getattr(p, kind, None)
         if build is None:
             continue
         try:
             kernel = build(plant, controller)
         except Exception as exc:  # an optional accelerator: the Python hot path serves
-            msg = f"{plant.name}: serial right-hand side kernel not built: {exc}"
-            warnings.warn(msg, KernelWarning, stacklevel=3)
+            what = kind.split("_")[0]
+            msg = f"{plant.name}: {what} right-hand side kernel not built: {exc}"
+            warnings.warn(msg, KernelWarning, stacklevel=4)
             continue
         if kernel is not None:
-            return kernel  # type: ignore[no-any-return]
+            return kernel
     return None
 
 
 __all__ = [
     "DISABLE_ENV",
     "GROUP",
+    "BoundClosedRHS",
+    "ClosedRHS",
     "ClosureNewton",
     "KernelProvider",
     "KernelWarning",
     "NewtonOutcome",
     "SerialRHS",
+    "closed_rhs",
     "closure_newton",
     "disabled",
     "enabled",
