@@ -1,5 +1,5 @@
 """Every joint axis passes through the visuals of both bodies it joins (issue 29 item 4):
-the numeric check (rcm_pin.model.axis_visuals) over the catalogue at the home pose, and the
+the numeric check (rcm_pin.analysis.axis_visuals) over the catalogue at the home pose, and the
 line–solid distances it rests on (rcm_pin.model.line_distance) on hand-made cases."""
 
 from __future__ import annotations
@@ -16,10 +16,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import rcm_pin
+from rcm_pin.analysis.axis_visuals import MOVING, AxisMiss, axis_misses, shape_miss
 from rcm_pin.catalog import mechanisms
 from rcm_pin.catalog.loading import from_urdf
 from rcm_pin.errors import InvalidInputError
-from rcm_pin.model.axis_visuals import MOVING, AxisMiss, axis_misses, shape_miss
 from rcm_pin.model.line_distance import (
     line_box,
     line_cylinder,
