@@ -16,7 +16,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import rcm_pin
-from rcm_pin.analysis.axis_visuals import MOVING, AxisMiss, axis_misses, shape_miss
+from rcm_pin.analysis.axis_visuals import MOVING, AxisMiss, _cut_axes, axis_misses, shape_miss
 from rcm_pin.catalog import mechanisms
 from rcm_pin.catalog.loading import from_urdf
 from rcm_pin.errors import InvalidInputError
@@ -91,6 +91,23 @@ def test_every_cut_joint_passes_through_both_bodies(name):
 def test_cut_joints_are_pins_and_welds_are_none(name, cut, present):
     sides = [r.side for r in rows_of(name) if r.joint == cut]
     assert sides == (["parent", "child"] if present else [])
+
+
+Z = np.array([[0.0], [0.0], [2.0]])
+
+
+@pytest.mark.parametrize(
+    ("closed", "tree", "lines"),
+    [
+        (Z, np.eye(3), [(0, 0, 1)]),  # a pin: the loop turns the bodies about z only
+        (np.eye(3)[:, :2], np.eye(3), list(map(tuple, np.eye(3)))),  # a ball: three lines
+        (np.zeros((3, 1)), Z, [(0, 0, 1)]),  # turning alike here, the tree allows z only
+        (np.zeros((3, 1)), np.eye(3), []),  # a weld: no relative rotation in the loop
+    ],
+)
+def test_the_lines_of_a_cut_joint(closed, tree, lines):
+    got = np.abs(np.array(_cut_axes(closed, tree))).reshape(-1, 3)  # a line has no sign
+    np.testing.assert_allclose(got, np.array(lines).reshape(-1, 3), rtol=0, atol=EXACT)
 
 
 @pytest.mark.parametrize("name", NO_VISUALS)

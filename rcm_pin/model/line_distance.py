@@ -156,12 +156,11 @@ def line_triangles(p: object, d: object, vertices: object, faces: object) -> flo
     h = np.cross(u, e2)
     det = np.einsum("ij,ij->i", e1, h)
     ok = np.abs(det) > TINY * np.linalg.norm(e1, axis=1) * np.linalg.norm(e2, axis=1)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        s = p - a
-        bu = np.einsum("ij,ij->i", s, h) / det
-        qv = np.cross(s, e1)
-        bv = (qv @ u) / det
-        hit = ok & (bu >= 0.0) & (bv >= 0.0) & (bu + bv <= 1.0)
+    det = np.where(ok, det, 1.0)  # a triangle parallel to the line: its edges decide
+    s = p - a
+    bu = np.einsum("ij,ij->i", s, h) / det
+    bv = (np.cross(s, e1) @ u) / det
+    hit = ok & (bu >= 0.0) & (bv >= 0.0) & (bu + bv <= 1.0)
     if np.any(hit):
         return 0.0
     edges = [(a, b), (b, c), (c, a)]
