@@ -5,7 +5,8 @@ Position problems (:mod:`.position`, numeric routes :mod:`.closed_position`,
 :mod:`.jacobians`), velocity (:mod:`.velocity`, :mod:`.loop_velocity`), singularities
 (:mod:`.singularity`, :mod:`.closed_singularity`, :mod:`.screws`, :mod:`.maps`,
 :mod:`.singularity_report`), workspace (:mod:`.workspace`), accuracy (:mod:`.accuracy`),
-mobility (:mod:`.mobility`) and the vectorised planar Newton (:mod:`.batch_planar`).
+mobility (:mod:`.mobility`), the vectorised planar Newton (:mod:`.batch_planar`) and
+whether the joint axes pass through the bodies they join (:mod:`.axis_visuals`).
 
 The re-exports below are the public API of the layer (``docs/api.md``), imported on first
 access: ``import rcm_pin`` loads no scipy or matplotlib.
@@ -26,6 +27,7 @@ if TYPE_CHECKING:
         accuracy_model,
         sensitivities,
     )
+    from rcm_pin.analysis.axis_visuals import AxisMiss, axis_misses
     from rcm_pin.analysis.capabilities import (
         Assemblies,
         Branches,
@@ -135,6 +137,7 @@ _LAZY = {
     "AccuracyReport": "accuracy",
     "AccuracyRow": "accuracy",
     "Assemblies": "capabilities",
+    "AxisMiss": "axis_visuals",
     "Branches": "capabilities",
     "Cause": "singularity_model",
     "Classification": "loop_velocity",
@@ -158,6 +161,7 @@ _LAZY = {
     "accuracy_model": "accuracy",
     "analyse": "singularity",
     "analyse_jacobian": "singularity",
+    "axis_misses": "axis_visuals",
     "classify": "loop_velocity",
     "closure_jacobian": "loop_velocity",
     "configuration_report": "closed_singularity",
@@ -208,6 +212,7 @@ __all__ = [
     "AccuracyReport",
     "AccuracyRow",
     "Assemblies",
+    "AxisMiss",
     "Branches",
     "Cause",
     "Classification",
@@ -231,6 +236,7 @@ __all__ = [
     "accuracy_model",
     "analyse",
     "analyse_jacobian",
+    "axis_misses",
     "classify",
     "closure_jacobian",
     "configuration_report",

@@ -5,7 +5,8 @@ distances between every pair of *non-adjacent* links over a grid of the two gaze
 (θ1, θ2): links are adjacent when a joint connects them (the frame counts as the parent of
 the pairs O1, O2, O3 and the lid) or a cut pair does (B: coupler–rocker, P: link 5–eye 2,
 K: finger–yaw crank), and link 5 is adjacent to the Assur group's links (slot and pin).
-The result is the smallest clearance of every pair, where it occurs, and the clearance map
+The result is the smallest clearance of every pair of links (over the visuals of each: a
+link may have several, e.g. a hub besides its bar), where it occurs, and the clearance map
 (the smallest clearance over all pairs at each grid point).
 
 Listing's law: the eye turns from the primary (straight) direction about an axis in the
@@ -94,12 +95,17 @@ def _link(name: str) -> str:
 
 
 def interference(mech: Mechanism, n: int = 13, lid: float = 0.0, roll: float = 0.0) -> Clearance:
-    """Coal distances of every non-adjacent pair over an n × n grid of (θ1, θ2) ∈ [−π, π)²."""
+    """Coal distances of every non-adjacent pair of links over an n × n grid of (θ1, θ2) ∈
+    [−π, π)² (each pair's smallest over the visuals of its two links)."""
     gm, pairs = geometry_model(mech)
     gd = pin.GeometryData(gm)
+    objects = gm.geometryObjects
+    links = [(_link(objects[i].name), _link(objects[k].name)) for i, k in pairs]
+    names = tuple(dict.fromkeys(links))  # the link pairs, in first-object order
+    group = np.array([names.index(p) for p in links], dtype=int)
     theta = np.linspace(-np.pi, np.pi, n, endpoint=False)
-    minimum = np.full(len(pairs), np.inf)
-    where = np.zeros((len(pairs), 2))
+    minimum = np.full(len(names), np.inf)
+    where = np.zeros((len(names), 2))
     cmap = np.full((n, n), np.inf)
     for a, t1 in enumerate(theta):
         for b, t2 in enumerate(theta):
@@ -107,14 +113,12 @@ def interference(mech: Mechanism, n: int = 13, lid: float = 0.0, roll: float = 0
             if not sols:
                 continue
             pin.computeDistances(mech.model, mech.data, gm, gd, sols[0])
-            d = np.array([r.min_distance for r in gd.distanceResults])
+            d = np.full(len(names), np.inf)
+            np.minimum.at(d, group, [r.min_distance for r in gd.distanceResults])
             cmap[a, b] = d.min()
             better = d < minimum
             minimum[better] = d[better]
             where[better] = (t1, t2)
-    names = tuple(
-        (_link(gm.geometryObjects[i].name), _link(gm.geometryObjects[k].name)) for i, k in pairs
-    )
     return Clearance(names, minimum, where, theta, theta, cmap)
 
 
