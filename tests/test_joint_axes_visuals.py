@@ -5,6 +5,7 @@ line–solid distances it rests on (rcm_pin.model.line_distance) on hand-made ca
 from __future__ import annotations
 
 import math
+import re
 import xml.etree.ElementTree as ET
 from functools import cache
 
@@ -29,9 +30,6 @@ from rcm_pin.model.line_distance import (
 )
 from rcm_pin.viz.triangles import box
 
-#: Descriptions without any visual geometry: nothing to pass through (the viewer draws rods
-#: between the joint origins); test_no_visual_geometry_misses_by_inf checks what they get.
-NO_VISUALS = ("rcm_two_mass",)
 #: Rows of descriptions rcm-pin does not ship (example-robot-data), with the reason.
 VENDOR = {
     ("panda", "panda_finger_joint1", "child"): "the vendor's finger mesh is beside its slide",
@@ -53,7 +51,6 @@ def _moving_joints(name: str) -> list[str]:
 CASES = [
     pytest.param(e.name, joint, side, id=f"{e.name}-{joint}-{side}", marks=marks)
     for e in mechanisms()
-    if e.name not in NO_VISUALS
     for joint in _moving_joints(e.name)
     for side in ("parent", "child")
     for marks in [
@@ -110,12 +107,6 @@ def test_the_lines_of_a_cut_joint(closed, tree, lines):
     np.testing.assert_allclose(got, np.array(lines).reshape(-1, 3), rtol=0, atol=EXACT)
 
 
-@pytest.mark.parametrize("name", NO_VISUALS)
-def test_no_visual_geometry_misses_by_inf(name):
-    rows = rows_of(name)
-    assert rows and all(r.miss == math.inf for r in rows)
-
-
 ARM = """<robot name="arm">
   <link name="base"><visual><geometry><box size="0.2 0.2 0.2"/></geometry></visual></link>
   <link name="arm">
@@ -127,6 +118,14 @@ ARM = """<robot name="arm">
   <link name="tool"/>
   <joint name="t" type="fixed"><parent link="arm"/><child link="tool"/></joint>
 </robot>"""
+
+
+def test_no_visual_geometry_misses_by_inf():
+    """A body without visual geometry has nothing to pass through (the viewer draws rods
+    between its joint origins): its rows miss by inf."""
+    bare = re.sub(r"<visual>.*?</visual>", "", ARM, flags=re.S)
+    rows = axis_misses(from_urdf(bare, tool_frame="tool"))
+    assert [(r.side, r.miss) for r in rows] == [("parent", math.inf), ("child", math.inf)]
 
 
 def test_a_joint_axis_beside_its_child_is_reported():

@@ -10,6 +10,7 @@ from scipy.ndimage import binary_erosion
 
 import rcm_pin
 from rcm_pin.analysis.position import forward
+from rcm_pin.catalog.loading import from_urdf
 from rcm_pin.errors import InvalidInputError
 from rcm_pin.viz import overlays as ov
 from rcm_pin.viz import snapshot as snap
@@ -137,6 +138,16 @@ def test_a_body_moved_by_q_moves_in_the_picture(name, step, tmp_path):
     assert np.abs(second - first).sum() > 0
 
 
+#: A one-joint arm with no visual geometry (drawn as rods).
+BARE = """<robot name="bare">
+  <link name="base"/><link name="arm"/><link name="tool"/>
+  <joint name="j" type="revolute"><parent link="base"/><child link="arm"/><axis xyz="0 0 1"/>
+    <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+  <joint name="t" type="fixed"><parent link="arm"/><child link="tool"/>
+    <origin xyz="0.3 0 0"/></joint>
+</robot>"""
+
+
 def test_snapshot_without_browser_uses_the_renderer(tmp_path, monkeypatch):
     monkeypatch.setattr(snap, "find_chromium", lambda: None)
     mech = rcm_pin.load("rcm_bevel_4dof")
@@ -145,7 +156,7 @@ def test_snapshot_without_browser_uses_the_renderer(tmp_path, monkeypatch):
     img = _image(png)
     assert img.shape == (400, 500, 3) and _solid(img) > 0.03
     assert describe(mech) == WHAT[True] == "visual geometry shaded by matplotlib"
-    assert describe(rcm_pin.load("rcm_two_mass")) == WHAT[False]
+    assert describe(from_urdf(BARE, tool_frame="tool")) == WHAT[False]
     default = fallback_png(mech, np.array([0.4, 0.3, 0.1, 0.8]), tmp_path / "d.png")
     assert _image(default).shape == (600, 800, 3)
     with pytest.raises(InvalidInputError):
