@@ -28,7 +28,7 @@ from rcm_pin.analysis.results import PositionSolution
 from rcm_pin.errors import SolverError
 from rcm_pin.model.family import Branch
 from rcm_pin.model.mechanism import Mechanism
-from rcm_pin.model.output import Output
+from rcm_pin.model.output import POSE, Output
 from rcm_pin.rotations import MAX_ABS, wrap_angle
 
 #: A serial branch is accepted when its forward kinematics meets the target this well.
@@ -92,7 +92,7 @@ def check_branches(
         return check_branches_reference(mech, output, target, branches)
     H, logs = _placements(mech, output, Q, target)
     values = _values(output, H)
-    res = np.max(np.abs(_errors(output, values, logs, target)), axis=1, initial=0.0)
+    res = np.abs(_errors(output, values, logs, target)).max(axis=1)
     if not bool(np.all(res <= BRANCH_TOL)):  # a miss (or NaN): the reference's error
         return check_branches_reference(mech, output, target, branches)
     inside = np.all((mech.lower - LIMIT_TOL <= Q) & (mech.upper + LIMIT_TOL >= Q), axis=1)
@@ -123,20 +123,16 @@ def _placements(
     fk, frame = pin.forwardKinematics, pin.updateFramePlacement
     Qp = Q if mech.identity_order else mech.to_pin(Q)
     hs = []
-    if "rotation" not in output.coords:
-        for qp in Qp:
-            fk(model, data, qp)
-            hs.append(frame(model, data, frame_id).homogeneous)
-        return np.array(hs).reshape(-1, 16), None
-    k = _offset(output, "rotation")
-    inv = pin.SE3(target[k : k + 9].reshape(3, 3), np.zeros(3)).inverse()  # (R_t, 0)⁻¹
-    log3, logs = pin.log3, []
     for qp in Qp:
         fk(model, data, qp)
-        oMf = frame(model, data, frame_id)
-        hs.append(oMf.homogeneous)
-        logs.append(log3((oMf * inv).rotation))  # R·R_tᵀ
-    return np.array(hs).reshape(-1, 16), np.array(logs)
+        hs.append(frame(model, data, frame_id).homogeneous)
+    H = np.array(hs)
+    if "rotation" not in output.coords:
+        return H.reshape(-1, 16), None
+    k = _offset(output, "rotation")
+    A = H[:, :3, :3] @ target[k : k + 9].reshape(3, 3).T  # R·R_tᵀ, batched
+    log3 = pin.log3
+    return H.reshape(-1, 16), np.array([log3(a) for a in A])
 
 
 def _offset(output: Output, token: str) -> int:
@@ -170,6 +166,9 @@ def _errors(
     output: Output, values: np.ndarray, logs: np.ndarray | None, target: np.ndarray
 ) -> np.ndarray:
     """Errors (B, dim) of the values, as ``Output.error`` of each row."""
+    if output.coords == POSE:
+        assert logs is not None
+        return np.concatenate([values[:, :3] - target[:3], logs], axis=1)
     cols: list[np.ndarray] = []
     k = 0
     for c in output.coords:
