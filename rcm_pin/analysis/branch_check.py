@@ -40,7 +40,7 @@ _P = {"x": 3, "y": 7, "z": 11}
 #: The flattened entries (i·4 + j) of R[i, j], row by row.
 _R = (0, 1, 2, 4, 5, 6, 8, 9, 10)
 #: Angle tokens: atan2(R[i, j], R[j, j]) as flattened entries (see ``Output.value``).
-_ANGLE = {"rx": (9, 10), "ry": (2, 0), "rz": (4, 0)}
+_ANGLE = {"rx": (9, 5), "ry": (2, 10), "rz": (4, 0)}
 
 
 def within_limits(mech: Mechanism, q: np.ndarray, tol: float = LIMIT_TOL) -> bool:
