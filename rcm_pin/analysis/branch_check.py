@@ -28,19 +28,16 @@ from rcm_pin.analysis.results import PositionSolution
 from rcm_pin.errors import SolverError
 from rcm_pin.model.family import Branch
 from rcm_pin.model.mechanism import Mechanism
-from rcm_pin.model.output import POSE, Output
+from rcm_pin.model.output import _ANGLE, POSE, Output
+from rcm_pin.model.output import _FLAT as _P
 from rcm_pin.rotations import MAX_ABS, wrap_angle
 
 #: A serial branch is accepted when its forward kinematics meets the target this well.
 BRANCH_TOL = 1e-9
 #: Joint-limit tolerance of the ``within_limits`` flag [rad, m].
 LIMIT_TOL = 1e-12
-#: Entries of the flattened 4×4 placement that a translation token reads.
-_P = {"x": 3, "y": 7, "z": 11}
 #: The flattened entries (i·4 + j) of R[i, j], row by row.
 _R = (0, 1, 2, 4, 5, 6, 8, 9, 10)
-#: Angle tokens: atan2(R[i, j], R[j, j]) as flattened entries (see ``Output.value``).
-_ANGLE = {"rx": (9, 5), "ry": (2, 10), "rz": (4, 0)}
 
 
 def within_limits(mech: Mechanism, q: np.ndarray, tol: float = LIMIT_TOL) -> bool:

@@ -19,7 +19,6 @@ from dataclasses import replace
 from typing import Any
 
 import numpy as np
-import pinocchio as pin
 
 from rcm_pin.analysis import closed_position as cp
 from rcm_pin.analysis.assembly_modes import distinct_modes
@@ -57,7 +56,7 @@ def forward(
     """
     if mech.loops is None:
         qc = mech.check_q(q)
-        value = mech.output.value(pin.SE3(frame_placement(mech, qc)))
+        value = mech.output.value(placement(mech, qc))
         sol = PositionSolution(qc, value, "tree", 0.0, 0, within_limits(mech, qc))
         return PositionResult(
             mech, "forward", qc, mech.output, (sol,), "Pinocchio forward kinematics"
