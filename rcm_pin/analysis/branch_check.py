@@ -3,8 +3,8 @@
 Every candidate of a serial inverse problem is checked by the second route: Pinocchio
 forward kinematics of the branch must meet the target within
 :data:`BRANCH_TOL` (max |e|, the output error of :meth:`rcm_pin.model.output.Output.error`),
-and is flagged against the joint limits (``within_limits`` of
-:mod:`rcm_pin.analysis.position`, tolerance 1e-12). :func:`check_branches` does it for all
+and is flagged against the joint limits (:func:`within_limits`, tolerance
+:data:`LIMIT_TOL`). :func:`check_branches` does it for all
 branches at once: one validation of the stacked coordinates, one Pinocchio forward
 kinematics per branch (no per-branch Python objects around it), then the output values,
 the errors, the residuals and the limit flags as array operations over the branches. The
@@ -113,10 +113,10 @@ def _stacked(mech: Mechanism, branches: Sequence[Branch]) -> np.ndarray | None:
 
 def _placements(
     mech: Mechanism, output: Output, Q: np.ndarray, target: np.ndarray
-) -> tuple[np.ndarray, np.ndarray | None]:
+) -> tuple[np.ndarray, np.ndarray]:
     """Pinocchio forward kinematics of every row of Q: the flattened 4×4 placements
-    (B, 16) and, for a ``rotation`` output, log₃(R·R_tᵀ) (B, 3) of each."""
-    model, data, frame_id = mech.model, mech.data, output.frame_id
+    (B, 16) and log₃(R·R_tᵀ) (B, 3) of each for a ``rotation`` output (else (B, 0))."""
+    model, data, frame_id = mech.model, mech.data, mech.output.frame_id  # as `placement`
     fk, frame = pin.forwardKinematics, pin.updateFramePlacement
     Qp = Q if mech.identity_order else mech.to_pin(Q)
     hs = []
@@ -125,7 +125,7 @@ def _placements(
         hs.append(frame(model, data, frame_id).homogeneous)
     H = np.array(hs)
     if "rotation" not in output.coords:
-        return H.reshape(-1, 16), None
+        return H.reshape(-1, 16), np.empty((len(H), 0))
     k = _offset(output, "rotation")
     A = H[:, :3, :3] @ target[k : k + 9].reshape(3, 3).T  # R·R_tᵀ, batched
     log3 = pin.log3
@@ -159,18 +159,15 @@ def _values(output: Output, H: np.ndarray) -> np.ndarray:
     return np.concatenate(cols, axis=1)
 
 
-def _errors(
-    output: Output, values: np.ndarray, logs: np.ndarray | None, target: np.ndarray
-) -> np.ndarray:
-    """Errors (B, dim) of the values, as ``Output.error`` of each row."""
+def _errors(output: Output, values: np.ndarray, logs: np.ndarray, target: np.ndarray) -> np.ndarray:
+    """Errors (B, dim) of the values, as ``Output.error`` of each row (``logs``: the
+    rotation's, from :func:`_placements`)."""
     if output.coords == POSE:
-        assert logs is not None
         return np.concatenate([values[:, :3] - target[:3], logs], axis=1)
     cols: list[np.ndarray] = []
     k = 0
     for c in output.coords:
         if c == "rotation":
-            assert logs is not None
             cols.append(logs)
             k += 9
         elif c in _P:
