@@ -90,9 +90,9 @@ def check_branches(
     H, logs = _placements(mech, output, Q, target)
     values = _values(output, H)
     res = np.abs(_errors(output, values, logs, target)).max(axis=1)
-    if not bool(np.all(res <= BRANCH_TOL)):  # a miss (or NaN): the reference's error
+    if not (res <= BRANCH_TOL).all():  # a miss (or NaN): the reference's error
         return check_branches_reference(mech, output, target, branches)
-    inside = np.all((mech.lower - LIMIT_TOL <= Q) & (mech.upper + LIMIT_TOL >= Q), axis=1)
+    inside = ((mech.lower - LIMIT_TOL <= Q) & (mech.upper + LIMIT_TOL >= Q)).all(axis=1)
     return [
         PositionSolution(q, v, b.label, r, 0, ok)
         for q, v, b, r, ok in zip(Q, values, branches, res.tolist(), inside.tolist())
