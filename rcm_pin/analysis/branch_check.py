@@ -92,7 +92,8 @@ def check_branches(
     res = np.abs(_errors(output, values, logs, target)).max(axis=1)
     if not (res <= BRANCH_TOL).all():  # a miss (or NaN): the reference's error
         return check_branches_reference(mech, output, target, branches)
-    inside = ((mech.lower - LIMIT_TOL <= Q) & (mech.upper + LIMIT_TOL >= Q)).all(axis=1)
+    box = (mech.lower - LIMIT_TOL <= Q) & (mech.upper + LIMIT_TOL >= Q)
+    inside = np.asarray(box.all(axis=1))
     return [
         PositionSolution(q, v, b.label, r, 0, ok)
         for q, v, b, r, ok in zip(Q, values, branches, res.tolist(), inside.tolist())
