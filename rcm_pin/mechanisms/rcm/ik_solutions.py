@@ -89,7 +89,7 @@ class IKSolutions:
             v = np.abs(cand - high(low(cand, lo), up))
             better = v < viol
             best, viol = np.where(better, cand, best), np.where(better, v, viol)
-        return (best if best is not q else q.copy()), np.asarray((viol <= tol).all(-1))
+        return best, np.asarray((viol <= tol).all(-1))  # (np.where: a new array, not q)
 
     def within_limits(self, lower: ArrayLike, upper: ArrayLike, tol: float = 1e-12) -> np.ndarray:
         """Bool mask ``(n_poses, n_branches)``: branch inside the limits up to ±2π wraps."""
