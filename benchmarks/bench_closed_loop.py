@@ -53,6 +53,7 @@ from ocp.buffered import BufferedFunction
 from ocp.kernels import CHUNK, provider
 from ocp.kernels.closure_kernel import ClosureNewtonKernel, SharedFunction
 from rcm_pin.analysis.batch_planar import PlanarTree, batch_solve_passive
+from rcm_pin.analysis.capabilities import position_solver
 from rcm_pin.analysis.closed_position import solve_drives
 from rcm_pin.mechanisms.planar_3rrr import closed_form as p3
 from rcm_pin.mechanisms.planar_3rrr import geometry
@@ -191,6 +192,7 @@ def bench_sweep(
         "worst_residual_m": float(max(r[2] for r in fast)),
         "floor_us": {FLOOR: floor},
         "ratio_to_floor": {"measured": kern, "floor": FLOOR, "ratio": times[kern] / floor},
+        "forward_over_kernel_solve": ratio(direct, kern, times),  # goal <= 2
         "kernel_compiled": kernel.shared.compiled,
         "vm_instructions": vm.shared.function.n_instructions(),
         "target": "<= 20 us per pose (kernel)",
@@ -280,11 +282,12 @@ def bench_all_modes(name: str, n: int, repeat: int, seed: int) -> dict[str, obje
     full = "rcm_pin.forward(all_modes=True) (kernel)"
     full_np = "rcm_pin.forward(all_modes=True) (numpy route)"
     warm = "solve_drives (kernel, warm start from home)"
-    seeds = "family.direct_position (closed-form seeds only)"
+    seeds = "position_solver(mech).direct (closed-form seeds only)"
+    solver = position_solver(mech)
     times, out = timed({full: lambda d: rcm_pin.forward(mech, d, all_modes=True),
                         full_np: numpy_route(lambda d: rcm_pin.forward(mech, d, all_modes=True)),
                         warm: lambda d: solve_drives(mech, d, home),
-                        seeds: lambda d: mech.family.direct_position(mech, d)},
+                        seeds: lambda d: solver.direct(mech, d)},
                        list(drives), repeat)  # fmt: skip
     results = out[full]
     counts = sorted({r.count for r in results})

@@ -14,10 +14,14 @@ Prints a JSON document with per-pose times [ns] (medians over ``--repeat`` runs)
 
 and the ratios loop / vectorised, inverse / loop and inverse / vectorised. Poses come from
 the closed-form forward kinematics (q1, q2, q4, q5, q6 uniform in (−π, π], q3 uniform in
-[0.05, 0.12] m).
+[0.05, 0.12] m). With ``--families N``, also ``rcm_pin.inverse`` and ``rcm_pin.forward``
+of every catalogue mechanism divided by their floors (the analytic IK or the family's
+candidates; one forward kinematics or the closure kernel's solve) on N targets each
+(:mod:`position_floors`).
 
     python benchmarks/bench_ik.py [--n 1000000] [--n-loop 2000] [--wrist zyz] [--repeat 5]
     python benchmarks/bench_ik.py --n 20000 --n-loop 200 --repeat 3    # quick
+    python benchmarks/bench_ik.py --n 2000 --n-loop 200 --families 50  # + every family
 """
 
 from __future__ import annotations
@@ -67,6 +71,8 @@ def main(argv: list[str] | None = None) -> dict[str, object]:
     ap.add_argument("--repeat", type=int, default=5, help="runs (median taken)")
     ap.add_argument("--no-check", action="store_true", help="skip the SO(3) screen")
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--families", type=int, default=0, metavar="N",
+                    help="also every catalogue mechanism on N targets (0: skip)")  # fmt: skip
     args = ap.parse_args(argv)
 
     rng = np.random.default_rng(args.seed)
@@ -127,6 +133,10 @@ def main(argv: list[str] | None = None) -> dict[str, object]:
             f"rcm_pin.inverse branch counts on {len(counts)} poses": sorted(set(counts)),
         },
     }
+    if args.families:
+        from position_floors import bench_families
+
+        doc["families"] = bench_families(args.families, args.repeat, args.seed)
     print(json.dumps(doc, indent=2))
     return doc
 

@@ -19,12 +19,13 @@ from dataclasses import replace
 from typing import Any
 
 import numpy as np
-import pinocchio as pin
 
 from rcm_pin.analysis import closed_position as cp
 from rcm_pin.analysis.assembly_modes import distinct_modes
 from rcm_pin.analysis.assembly_modes import note as self_motion_note
+from rcm_pin.analysis.branch_check import check_branches, placement, within_limits
 from rcm_pin.analysis.capabilities import NumericPosition, position_solver
+from rcm_pin.analysis.pose_target import plain_pose
 from rcm_pin.analysis.results import PositionResult, PositionSolution, frame_placement
 from rcm_pin.analysis.serial_ik import check_starts
 from rcm_pin.errors import InvalidInputError, SolverError, UnreachablePoseError
@@ -35,14 +36,6 @@ from rcm_pin.rotations import numeric_array, pose_from_matrix, short_repr
 
 #: A closed-loop solve is accepted below this closure residual [m].
 ACCEPT_TOL = 1e-12
-#: A serial branch is accepted when its forward kinematics meets the target this well.
-BRANCH_TOL = 1e-9
-
-
-def within_limits(mech: Mechanism, q: np.ndarray, tol: float = 1e-12) -> bool:
-    """Whether every coordinate lies in [lower − tol, upper + tol]."""
-    lower, upper = mech.lower.tolist(), mech.upper.tolist()
-    return all(lo - tol <= x <= hi + tol for x, lo, hi in zip(q.tolist(), lower, upper))
 
 
 def forward(
@@ -63,7 +56,7 @@ def forward(
     """
     if mech.loops is None:
         qc = mech.check_q(q)
-        value = mech.output.value(pin.SE3(frame_placement(mech, qc)))
+        value = mech.output.value(placement(mech, qc))
         sol = PositionSolution(qc, value, "tree", 0.0, 0, within_limits(mech, qc))
         return PositionResult(
             mech, "forward", qc, mech.output, (sol,), "Pinocchio forward kinematics"
@@ -137,31 +130,23 @@ def inverse(
     """
     require_output(mech, "the inverse position problem")
     output = mech.output if coords is None else mech.output.subset(_coords(mech, coords))
-    value = output.coerce(_as_value(output, target))
+    value = plain_pose(output, target)
+    if value is None:
+        value = output.coerce(_as_value(output, target))
     solver = position_solver(mech)
     if starts is not None and isinstance(solver, NumericPosition):
         solver = solver.with_starts(check_starts(starts))
     found = solver.inverse(mech, value, output)
     branches, method = found.branches, found.method
-    if mech.loops is None:
-        sols = []
-        for b in branches:
-            q = mech.check_q(b.q, "branch")
-            value_q = output.value(_placement(mech, q))  # the second route: Pinocchio FK
-            res = float(np.max(np.abs(output.error(value_q, value)), initial=0.0))
-            if res > BRANCH_TOL:
-                raise SolverError(
-                    f"{mech.name}: branch {b.label} misses the target by {res:.2e} "
-                    f"(> {BRANCH_TOL:g}) in forward kinematics"
-                )
-            sols.append(PositionSolution(q, value_q, b.label, res, 0, within_limits(mech, q)))
+    if mech.loops is None:  # the second route: Pinocchio FK of every branch
+        sols = check_branches(mech, output, value, branches)
     else:
         sols = []
         for b in branches:
             q, it, res = cp.polish(mech, value, output, b.q)
             if res >= ACCEPT_TOL:
                 raise SolverError(f"{mech.name}: inverse polish residual {res:.2e} m for {b.label}")
-            value_q = output.value(_placement(mech, q))
+            value_q = output.value(placement(mech, q))
             sols.append(PositionSolution(q, value_q, b.label, res, it, within_limits(mech, q)))
         # closed-form working modes stay distinct by label, even where they meet
         if not found.closed_form:
@@ -201,12 +186,6 @@ def _target_text(output: Output, value: np.ndarray) -> str:
     j = output.to_json(value)
     return ", ".join(f"{k}={v:.6g}" if isinstance(v, float) else k for k, v in j.items()
                      if k != "angles")  # fmt: skip
-
-
-def _placement(mech: Mechanism, q: np.ndarray) -> pin.SE3:
-    """World placement of the output frame at Mechanism coordinates q."""
-    pin.forwardKinematics(mech.model, mech.data, mech.q_pin(q))
-    return pin.updateFramePlacement(mech.model, mech.data, mech.output.frame_id)
 
 
 def _coords(mech: Mechanism, coords: Any) -> tuple[str, ...]:

@@ -43,6 +43,10 @@ TOKENS = ("x", "y", "z", "rx", "ry", "rz", "rotation")
 _ROW = {"x": 0, "y": 1, "z": 2, "rx": 3, "ry": 4, "rz": 5}
 #: Output of a serial mechanism's tool frame: its whole pose.
 POSE = ("x", "y", "z", "rotation")
+#: Entries h[4 i + j] = M[i, j] of a flattened 4×4 placement M: the translation tokens,
+#: and the angle tokens' atan2(R[i, j], R[j, j]) (rx: R21, R11; ry: R02, R22; rz: R10, R00).
+_FLAT = {"x": 3, "y": 7, "z": 11}
+_ANGLE = {"rx": (9, 5), "ry": (2, 10), "rz": (4, 0)}
 
 
 @dataclass(frozen=True)
@@ -129,15 +133,15 @@ class Output:
     def value(self, oMf: pin.SE3) -> np.ndarray:
         """Value vector (size,) of a frame placement."""
         out: list[float] = []
-        R, p = oMf.rotation.tolist(), oMf.translation.tolist()  # one copy each
+        h = oMf.homogeneous.ravel().tolist()  # one copy: h[4 i + j] = M[i, j]
         for c in self.coords:
-            if c in ("x", "y", "z"):
-                out.append(p[_ROW[c]])
-            elif c == "rotation":
-                out += R[0] + R[1] + R[2]
+            if c == "rotation":
+                out += h[0:3] + h[4:7] + h[8:11]
+            elif c in _FLAT:
+                out.append(h[_FLAT[c]])
             else:
-                i, j = {"rx": (2, 1), "ry": (0, 2), "rz": (1, 0)}[c]
-                out.append(math.atan2(R[i][j], R[j][j]))  # np.arctan2's value, bit for bit
+                i, j = _ANGLE[c]
+                out.append(math.atan2(h[i], h[j]))  # np.arctan2's value, bit for bit
         return np.array(out)
 
     def error(self, value: np.ndarray, target: np.ndarray) -> np.ndarray:

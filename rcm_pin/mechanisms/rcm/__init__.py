@@ -57,8 +57,8 @@ class RcmPosition(NumericPosition):
             full[:, :3] = res.q
             return Branches.of(mech, [Branch(q, f"branch_{b}") for b, q in enumerate(full)])
         if output.coords == ("x", "y", "z", "rotation") and mech.nq in (4, 6):
-            T = np.eye(4)
-            T[:3, 3], T[:3, :3] = target[:3], target[3:].reshape(3, 3)
+            T = np.empty((3, 4))
+            T[:, 3], T[:, :3] = target[:3], target[3:].reshape(3, 3)
             return Branches.of(
                 mech, [Branch(q, f"branch_{b}") for b, q in enumerate(solve_ik(mech, T).q)]
             )

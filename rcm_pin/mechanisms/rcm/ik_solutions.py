@@ -31,6 +31,16 @@ def _violation(q: FloatArray, lower: FloatArray, upper: FloatArray) -> FloatArra
     return np.maximum(lower - q, 0.0) + np.maximum(q - upper, 0.0)
 
 
+def _shifts(nq: int) -> tuple[FloatArray, FloatArray]:
+    """The shifts +2π and −2π of the angles (nq,) (q3, index 2, is a length)."""
+    angle = np.arange(nq) != 2
+    _SHIFTS[nq] = out = (2 * PI * angle, -2 * PI * angle)
+    return out
+
+
+_SHIFTS: dict[int, tuple[FloatArray, FloatArray]] = {}
+
+
 @dataclass(frozen=True)
 class IKSolutions:
     """All IK branches of a batch of poses.
@@ -64,20 +74,22 @@ class IKSolutions:
             q − 2π, the one closest to the box) and ``ok`` ``(n_poses, n_branches)``.
         """
         nq = self.q.shape[-1]
-        try:
-            lo, up = (np.broadcast_to(np.asarray(v, float), (nq,)) for v in (lower, upper))
-        except ValueError:
-            raise InvalidInputError(f"limits must have shape ({nq},)") from None
-        if np.isnan(lo).any() or np.isnan(up).any() or (lo > up).any():
+        lo, up = np.asarray(lower, dtype=float), np.asarray(upper, dtype=float)
+        if lo.shape not in ((), (1,), (nq,)) or up.shape not in ((), (1,), (nq,)):
+            raise InvalidInputError(f"limits must have shape ({nq},)")
+        if not (lo <= up).all():  # (NaN fails the comparison)
             raise InvalidInputError(f"limits must be ({nq},) with lower <= upper, no NaN")
-        angle = np.arange(nq) != 2  # q3 is a length
-        best, viol = self.q.copy(), _violation(self.q, lo, up)
-        for s in (2 * PI, -2 * PI):
-            cand = self.q + s * angle
-            v = _violation(cand, lo, up)
+        # q, then q + 2π, then q − 2π (angles only) where strictly closer to the box;
+        # |x − min(max(x, lower), upper)| is the violation max(lower − x, 0) +
+        # max(x − upper, 0), bit for bit
+        q, low, high = self.q, np.maximum, np.minimum
+        best, viol = q, np.abs(q - high(low(q, lo), up))
+        for shift in _SHIFTS.get(nq) or _shifts(nq):
+            cand = q + shift
+            v = np.abs(cand - high(low(cand, lo), up))
             better = v < viol
-            best[better], viol[better] = cand[better], v[better]
-        return best, np.asarray((viol <= tol).all(-1))
+            best, viol = np.where(better, cand, best), np.where(better, v, viol)
+        return best, np.asarray((viol <= tol).all(-1))  # (np.where: a new array, not q)
 
     def within_limits(self, lower: ArrayLike, upper: ArrayLike, tol: float = 1e-12) -> np.ndarray:
         """Bool mask ``(n_poses, n_branches)``: branch inside the limits up to ±2π wraps."""

@@ -1,0 +1,66 @@
+"""A pose target of the inverse problem read without the general route's array passes.
+
+:func:`rcm_pin.inverse` reads a target by the general route (``_as_value`` then
+:meth:`rcm_pin.model.output.Output.coerce`: numeric conversion, shape, finiteness and
+magnitude checks, the last row of a 4×4, the SVD projection of the rotation onto SO(3)),
+about a dozen numpy calls for one pose. :func:`plain_pose` reads the common case, a
+float64 4×4 / 3×4 matrix of a pose output (x, y, z, rotation), in scalar arithmetic and
+returns None for anything else, which then takes the general route with its checks and
+its typed errors. It accepts only what the general route accepts (last row within
+:data:`~rcm_pin.rotations.LAST_ROW_TOL`, every entry finite within
+:data:`~rcm_pin.rotations.MAX_ABS`, det R > 0) and keeps R as given only when the SVD
+projection would move it by less than :data:`KEEP_TOL`; so the value differs from the
+general route's by less than that (tests/test_branch_check.py compares both).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from rcm_pin.model.output import POSE, Output
+from rcm_pin.rotations import LAST_ROW_TOL, MAX_ABS
+
+#: R is kept as given when its distance from SO(3) (first order: ½‖RᵀR − I‖_F, what the
+#: SVD projection would move it by) is at most this: rotations computed by forward
+#: kinematics (~1e-16) pass; the results then differ from the projected route's by
+#: less than 1e-14, a hundredth of the 1e-12 they are compared at.
+KEEP_TOL = 1e-14
+
+
+def plain_pose(output: Output, target: Any) -> np.ndarray | None:
+    """The value vector (x, y, z, R row by row) of a plain pose matrix, or None when the
+    target needs the general route (module docstring)."""
+    if (
+        output.coords != POSE
+        or type(target) is not np.ndarray
+        or target.dtype != np.float64
+        or target.shape not in ((4, 4), (3, 4))
+    ):
+        return None
+    c = target.ravel().tolist()
+    if len(c) == 16 and not (
+        abs(c[12]) <= LAST_ROW_TOL
+        and abs(c[13]) <= LAST_ROW_TOL
+        and abs(c[14]) <= LAST_ROW_TOL
+        and abs(c[15] - 1.0) <= LAST_ROW_TOL
+    ):
+        return None
+    if not math.hypot(*c) <= MAX_ABS:  # NaN and inf fail too
+        return None
+    x0, y0, z0, x1, y1, z1, x2, y2, z2 = r = [*c[0:3], *c[4:7], *c[8:11]]
+    gxx = x0 * x0 + x1 * x1 + x2 * x2 - 1.0
+    gyy = y0 * y0 + y1 * y1 + y2 * y2 - 1.0
+    gzz = z0 * z0 + z1 * z1 + z2 * z2 - 1.0
+    gxy, gxz = x0 * y0 + x1 * y1 + x2 * y2, x0 * z0 + x1 * z1 + x2 * z2
+    gyz = y0 * z0 + y1 * z1 + y2 * z2
+    sq = gxx * gxx + gyy * gyy + gzz * gzz + 2.0 * (gxy * gxy + gxz * gxz + gyz * gyz)
+    det = z0 * (x1 * y2 - x2 * y1) + z1 * (x2 * y0 - x0 * y2) + z2 * (x0 * y1 - x1 * y0)
+    if not (0.5 * math.sqrt(sq) <= KEEP_TOL and det > 0.0):
+        return None
+    return np.array([c[3], c[7], c[11], *r])
+
+
+__all__ = ["KEEP_TOL", "plain_pose"]
