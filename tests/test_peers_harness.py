@@ -147,3 +147,75 @@ def test_the_registry_lists_every_row_with_existing_modules() -> None:
         for c in r.contenders:
             assert (PEERS / c.module).is_file(), c.module
             assert c.venv == "project" or c.venv in rows.INSTALLS
+
+
+SLOW = """
+import os, time
+
+def setup(case):
+    with open(case["pid_file"], "w") as f:
+        f.write(str(os.getpid()))
+    return None
+
+def run_once(state):
+    time.sleep(60)
+    return {}
+"""
+
+
+def _alive(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    try:  # a zombie waiting for its new parent to reap it is dead too
+        return Path(f"/proc/{pid}/status").read_text().split("State:")[1].split()[0] != "Z"
+    except (OSError, IndexError):
+        return False
+
+
+@pytest.mark.skipif(not sys.platform.startswith("linux"), reason="PR_SET_PDEATHSIG")
+def test_workers_die_when_the_harness_is_killed(tmp_path: Path) -> None:
+    import signal
+    import subprocess
+    import time
+
+    (tmp_path / "slow.py").write_text(SLOW)
+    pid_file = tmp_path / "worker.pid"
+    driver = (
+        f"import sys; sys.path.insert(0, {str(PEERS)!r}); import run; "
+        "from harness import Contender, Row; "
+        f"run.main(['--rounds', '1'], rows=[Row('slow', 'slow', (Contender('a', "
+        f"{str(tmp_path / 'slow.py')!r}),), case={{'pid_file': {str(pid_file)!r}}})], "
+        "installs={})"
+    )
+    harness_proc = subprocess.Popen([sys.executable, "-c", driver])
+    try:
+        deadline = time.monotonic() + 60
+        while not pid_file.exists() or not pid_file.read_text():
+            assert time.monotonic() < deadline and harness_proc.poll() is None
+            time.sleep(0.05)
+        worker = int(pid_file.read_text())
+        assert _alive(worker)
+    finally:
+        harness_proc.send_signal(signal.SIGKILL)
+        harness_proc.wait()
+    deadline = time.monotonic() + 10
+    while _alive(worker) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    assert not _alive(worker)
+
+
+def test_a_standalone_script_runs_through_the_adapter(tmp_path: Path) -> None:
+    (tmp_path / "standalone.py").write_text(
+        "def run(rounds):\n    return {'median_s': 0.5, 'accuracy': {'err': 1e-9}, 'x': [1]}\n"
+    )
+    row = Row(
+        "s", "s", (Contender("theirs", "script_adapter.py", peer=True,
+                             case={"script": str(tmp_path / "standalone.py")}),
+                   Contender("ours", "script_adapter.py",
+                             case={"script": str(tmp_path / "standalone.py")})),
+    )  # fmt: skip
+    doc = harness.run_row(row, 2, 1, tmp_path, {}, tmp_path)
+    assert doc["contenders"]["theirs"]["accuracy"] == {"median_s": 0.5, "err": 1e-9}
+    assert doc["ratios"][0]["ratio"] > 0
