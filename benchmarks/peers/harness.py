@@ -218,6 +218,7 @@ def run_row(
                 w = Worker(str(exe), c.module, log, c.venv == "project")
                 started.append(w)
                 info["python"] = w.hello.get("python")
+                info["versions"] = w.hello.get("versions", {})
                 first = w.request(cases[c.label], max(warmup, 1))
                 info["setup_s"], info["warmup_s"] = first["setup_s"], first["times"]
                 workers[c.label] = w

@@ -10,7 +10,10 @@ regularisation (rcm-pin has none; FDDP needs a positive-definite Q_uu).
 x_k = x0, u_k quasi-static; stopping threshold 1e-12 (rcm-pin's IPOPT tol), at most
 ``case["max_iter"]`` iterations (default 500; with binding limits neither BoxFDDP nor CSQP
 meets any threshold from 1e-5 to 1e-12 within 500, so that row stops them at 100 and
-reports "converged": false beside their tracking error). Timed: ``solve``."""
+reports "converged": false beside their tracking error). One thread
+(``problem.nthreads = 1``, ``case["threads"]``): rcm-pin's solve is single-threaded, and
+on the shared 2-core machine Crocoddyl's default 2 OpenMP threads made the same solve
+5-10× slower. Timed: ``solve``."""
 
 from __future__ import annotations
 
@@ -60,6 +63,7 @@ def setup(case: dict[str, Any]) -> dict[str, Any]:
         models.append(iam)
     x0 = np.asarray(case["x0"])
     problem = crocoddyl.ShootingProblem(x0, models[:-1], models[-1])
+    problem.nthreads = int(case.get("threads", 1))
     if solver_name == "csqp":
         import mim_solvers
 

@@ -48,6 +48,26 @@ def _load(path: str) -> Any:
     return module
 
 
+#: Distributions whose versions a worker reports when its module imported them.
+PACKAGES = {"pinocchio": "pin", "crocoddyl": "crocoddyl", "mim_solvers": "mim-solvers",
+            "pydrake": "drake", "mujoco": "mujoco", "casadi": "casadi", "scipy": "scipy",
+            "numpy": "numpy", "pink": "pin-pink", "rcm_pin": "rcm-pin"}  # fmt: skip
+
+
+def versions() -> dict[str, str]:
+    """Versions of the packages of :data:`PACKAGES` this process has imported."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    out = {}
+    for module, dist in PACKAGES.items():
+        if module in sys.modules:
+            try:
+                out[dist] = version(dist)
+            except PackageNotFoundError:
+                out[dist] = "?"
+    return out
+
+
 def _rounds(module: Any, states: dict[str, Any], request: dict[str, Any]) -> dict[str, Any]:
     case = request.get("case", {})
     key = json.dumps(case, sort_keys=True)
@@ -80,7 +100,8 @@ def main(argv: list[str]) -> int:
     except BaseException:
         out.write(json.dumps({"error": traceback.format_exc()}) + "\n")
         return 2
-    out.write(json.dumps({"ready": True, "python": sys.version.split()[0]}) + "\n")
+    hello = {"ready": True, "python": sys.version.split()[0], "versions": versions()}
+    out.write(json.dumps(hello) + "\n")
     states: dict[str, Any] = {}
     for line in sys.stdin:
         if not line.strip():
