@@ -207,7 +207,8 @@ def run_row(
             exe = python_of(c.venv, venvs)
             if exe is None:
                 info["status"] = "peer not installed"
-                info["install"] = installs.get(c.venv, f"make the venv {venvs / c.venv}")
+                cmd = installs.get(c.venv, f"make the venv {venvs / c.venv}")
+                info["install"] = cmd.replace("$VENVS", str(venvs))
                 continue
             if case is None:
                 info["status"], info["error"] = "failed", doc["error"]
