@@ -36,13 +36,34 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import IO, Any
 
-from rcm_pin.processes import parent_death_signal
+from rcm_pin.processes import PR_SET_PDEATHSIG, parent_death_signal
 
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parents[1]
 #: Seconds a worker may take to answer one request (a compiled OCP's first build: ~80 s).
 TIMEOUT = 900.0
 UNITS = {"s": 1.0, "ms": 1e3, "µs": 1e6}
+
+
+def _death_signal() -> Callable[[], None]:
+    """The ``preexec_fn`` that arms the parent-death signal in a worker: on Linux, libc's
+    ``prctl`` resolved here, in the harness (``parent_death_signal`` looks libc up with
+    ``ctypes.util.find_library``, which runs ``ldconfig``: not a thing to do between
+    ``fork`` and ``exec``); elsewhere ``parent_death_signal`` itself (a no-op)."""
+    if not sys.platform.startswith("linux"):
+        return parent_death_signal
+    import ctypes
+    import ctypes.util
+
+    prctl = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True).prctl
+
+    def arm() -> None:
+        prctl(PR_SET_PDEATHSIG, int(signal.SIGKILL), 0, 0, 0)
+
+    return arm
+
+
+_ARM = _death_signal()
 
 
 @dataclass(frozen=True)
@@ -92,7 +113,7 @@ class Worker:
             stderr=self._err,
             env=env,
             start_new_session=True,
-            preexec_fn=parent_death_signal,  # the harness is single-threaded
+            preexec_fn=_ARM,  # the parent-death signal survives exec
         )
         try:
             self.hello = self._read(TIMEOUT)

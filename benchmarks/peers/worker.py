@@ -17,7 +17,7 @@ Protocol, one JSON object per line:
 
 Only the standard library is imported here, so that every peer's venv runs it. The worker
 dies with the harness: the harness starts it in its own session with the kernel's parent
-death signal (``rcm_pin.processes.parent_death_signal``), and the worker exits at once
+death signal (``PR_SET_PDEATHSIG``, armed between fork and exec), and the worker exits at once
 when its parent is not the PID in ``RCM_PIN_PEERS_PARENT`` (the harness died before the
 signal was armed). The module's own prints go to stderr: the protocol has a private copy
 of stdout.
