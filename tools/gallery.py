@@ -85,14 +85,22 @@ _RCM = (
     "along that axis (q3) and turning about it (q4){wrist}."
 )
 _WRIST = ", and the wrist and tool (q5, q6)"
+#: The RCM mechanisms from the front, a little from above: the parallelogram in view.
+_RCM_VIEW = (0.2, -1.0, 0.35)
 #: Every catalogue mechanism's shot (--check fails for a mechanism without one).
 SHOTS: dict[str, Shot] = {
     "rcm_bevel": Shot(
-        _RCM.format(drive="gold bevel gears", wrist=_WRIST), (0.3, -0.4, 0.09, 0.5, 0.6, 0.2)
+        _RCM.format(drive="gold bevel gears", wrist=_WRIST),
+        (0.3, -0.4, 0.09, 0.5, 0.6, 0.2),
+        _RCM_VIEW,
     ),
-    "rcm_bevel_4dof": Shot(_RCM.format(drive="gold bevel gears", wrist=""), (0.3, -0.4, 0.09, 0.5)),
+    "rcm_bevel_4dof": Shot(
+        _RCM.format(drive="gold bevel gears", wrist=""), (0.3, -0.4, 0.09, 0.5), _RCM_VIEW
+    ),
     "rcm_belt": Shot(
-        _RCM.format(drive="gold belts and pulleys", wrist=_WRIST), (0.3, -0.4, 0.09, 0.5, 0.6, 0.2)
+        _RCM.format(drive="gold belts and pulleys", wrist=_WRIST),
+        (0.3, -0.4, 0.09, 0.5, 0.6, 0.2),
+        _RCM_VIEW,
     ),
     "rcm_two_mass": Shot(
         "Its URDF has no visual geometry: orange rods join the joint origins (the matplotlib "
@@ -261,11 +269,13 @@ def page(manifest: dict[str, dict[str, Any]]) -> str:
         "",
         "One picture per catalogue mechanism, made by `python tools/gallery.py` "
         "(`--check`, run by the tests, fails when one is missing or stale). Each shows the "
-        "mechanism in the explained style of the viewer (`rcm_pin.viz.explain.EXPLAINED`, "
+        "mechanism in the viewer's explained style (`SceneStyle.explained()`, "
         "[Visualisation](visualisation.md)): a colour per body where the URDF sets none "
         "(the ground grey), a base plate, a magenta ring on the axis of every driven joint, "
-        "red-green-blue arrows for the x, y, z axes of the output (tool) frame and of the "
-        "remote centre A; the key in the top-left corner names the bodies by colour.",
+        "a thin dark rod along every joint axis, red-green-blue arrows for the x, y, z axes "
+        "of the output (tool) frame and of the remote centre A. The key on the right names "
+        "the bodies by colour; the caption says what they are, which joints are driven and "
+        "where A is.",
         "",
     ]
     for name in rcm_pin.names():

@@ -10,7 +10,6 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import dataclasses
 import signal
 import sys
 import time
@@ -136,7 +135,7 @@ def cmd_view(args: argparse.Namespace) -> int:
 
 
 def _view(args: argparse.Namespace, kept: list[str]) -> int:
-    from rcm_pin.viz.explain import EXPLAINED, SceneStyle
+    from rcm_pin.viz.explain import SceneStyle
     from rcm_pin.viz.snapshot import snapshot
     from rcm_pin.viz.viewer import Viewer
 
@@ -149,7 +148,7 @@ def _view(args: argparse.Namespace, kept: list[str]) -> int:
     traj = _load_traj(args.traj, n_inputs) if args.traj is not None else None
     live = args.html is None and args.png is None
     colors = SceneStyle(args.colors)
-    style = dataclasses.replace(EXPLAINED, colors=args.colors) if args.explain else colors
+    style = SceneStyle.explained(args.colors) if args.explain else colors
     with (
         _stopped_by_sigterm(),
         Viewer(mech, server=live, snapshot_style=not live, host=args.host, style=colors) as viewer,

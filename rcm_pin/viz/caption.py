@@ -20,6 +20,8 @@ from pathlib import Path
 import numpy as np
 
 from rcm_pin.processes import atomic_write
+from rcm_pin.viz.decorations import AXIS_COLORS, AXIS_ROD, DRIVE_COLOR
+from rcm_pin.viz.overlays import GREEN, RED
 
 #: Caption font size [pt] and line height [px] at 100 dpi.
 CAPTION_PT, LINE_PX = 10.5, 17
@@ -62,16 +64,16 @@ def key(
         text = ", ".join(names[:most]) + (", …" if len(names) > most else "")
         rows.append((tuple(rgba), text if len(text) <= chars else text[: chars - 1] + "…"))
     if drives:
-        rows.append(((0.85, 0.1, 0.7), "ring: a driven joint"))
+        rows.append((DRIVE_COLOR, "ring: a driven joint"))
     if axes:
-        rows.append(((0.25, 0.25, 0.28), "thin rod: a joint axis"))
+        rows.append((AXIS_ROD, "thin rod: a joint axis"))
     if triads:
-        rows.append(((0.9, 0.1, 0.1), "arrows: x, y, z (red, green, blue)"))
+        rows.append((AXIS_COLORS[0], "arrows: x, y, z (red, green, blue)"))
     if rcm:
-        rows.append(((0.9, 0.1, 0.1), "sphere: remote centre A"))
-        rows.append(((0.1, 0.7, 0.2), "green rod: insertion axis"))
+        rows.append((RED, "sphere: remote centre A"))
+        rows.append((GREEN, "green rod: insertion axis"))
     if closed:
-        rows.append(((0.9, 0.1, 0.1), "small spheres: loop cut points"))
+        rows.append((RED, "small spheres: loop cut points"))
     return rows
 
 

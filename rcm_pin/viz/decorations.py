@@ -47,7 +47,7 @@ AXIS_COLORS = ((0.9, 0.1, 0.1), (0.1, 0.7, 0.2), (0.15, 0.3, 0.95))
 AXIS_ROD = (0.25, 0.25, 0.28, 1.0)
 #: Sizes as fractions of the bodies' extent: triad arrow length, drive ring radius, base
 #: plate thickness, gap under the bodies and margin around them.
-TRIAD, RING, PLATE, GAP, MARGIN = 0.12, 0.055, 0.012, 0.03, 0.08
+TRIAD, RING, PLATE, GAP, MARGIN = 0.1, 0.055, 0.012, 0.03, 0.08
 #: Radius of the joint-axis rods and their reach beyond the bodies, fractions of the extent.
 AXIS_RADIUS, AXIS_REACH = 0.003, 0.03
 
@@ -211,6 +211,7 @@ class JointSite:
         prismatic: a slide (else a revolute pair).
         child: where the child body meets the axis, along it [m] (None: no visual).
         parent_at: where the parent body meets the axis [m] (None: no visual).
+        world: 4x4 world placement of the axis frame at the configuration of the sites.
     """
 
     joint: int
@@ -219,6 +220,7 @@ class JointSite:
     prismatic: bool
     child: float | None
     parent_at: float | None
+    world: np.ndarray
 
 
 def joint_sites(mech: Mechanism, q: np.ndarray, radius: float,
@@ -245,7 +247,7 @@ def joint_sites(mech: Mechanism, q: np.ndarray, radius: float,
         for body in (j, parent):
             v = np.vstack(by_body[body]) if body in by_body else np.zeros((0, 3))
             at.append(ring_site((v - world[:3, 3]) @ world[:3, :3], radius))
-        out[j] = JointSite(j, parent, T, prismatic, at[0], at[1])
+        out[j] = JointSite(j, parent, T, prismatic, at[0], at[1], world)
     return out
 
 
@@ -254,17 +256,26 @@ def _shifted(T: np.ndarray, s: float) -> np.ndarray:
 
 
 def drive_rings(mech: Mechanism, sites: dict[int, JointSite], radius: float) -> list[Decoration]:
-    """A ring of ``radius`` [m] around each driven joint's axis (:func:`drives`), on the
-    parent body, where the axis meets the child body (else at the joint), and a double
-    arrow along a prismatic one's."""
+    """A ring around each driven joint's axis (:func:`drives`), on the parent body, where
+    the axis meets the child body (else at the joint) moved up to ``radius`` towards the
+    parent body (so that a body starting on the axis does not hide it), and a double arrow
+    along a prismatic one's. Rings are ``radius`` [m] wide, narrower (down to 0.4
+    ``radius``) where drives sit close together: at most 0.45 times the distance to the
+    nearest other ring."""
     rgba, out = (*DRIVE_COLOR, 1.0), []
+    placed = {}
     for label, joint_name in drives(mech).items():
         site = sites[mech.model.getJointId(joint_name)]
-        T = _shifted(site.placement, site.child or 0.0)
-        ring = torus(radius, 0.2 * radius, rgba)
+        s0, back = site.child or 0.0, site.parent_at or 0.0  # a step towards the parent
+        s0 -= float(np.clip(s0 - back, -radius, radius))
+        placed[label] = (site, _shifted(site.placement, s0), (site.world @ [0, 0, s0, 1])[:3])
+    for label, (site, T, centre) in placed.items():
+        gaps = [np.linalg.norm(centre - c) for k, (_, _, c) in placed.items() if k != label]
+        r = float(np.clip(0.45 * min(gaps, default=np.inf), 0.4 * radius, radius))
+        ring = torus(r, 0.2 * r, rgba)
         out.append(Decoration(f"drive_{label}", "drive", ring, site.parent, T, label))
         if site.prismatic:
-            mesh = arrow(2.2 * radius, 0.12 * radius, rgba, both=True)
+            mesh = arrow(2.2 * r, 0.12 * r, rgba, both=True)
             out.append(Decoration(f"drive_{label}_slide", "drive", mesh, site.parent, T))
     return out
 

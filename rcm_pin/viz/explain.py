@@ -59,11 +59,20 @@ class SceneStyle:
     def __post_init__(self) -> None:
         check_mode(self.colors)
 
+    @classmethod
+    def explained(cls, colors: str = "auto") -> SceneStyle:
+        """Everything on (:data:`EXPLAINED`) with body colours ``colors``.
+
+        Raises:
+            InvalidInputError: ``colors`` is not a colour mode.
+        """
+        return cls(colors, ground=True, triads=True, drives=True, axes=True)
+
 
 #: The default style: the URDF's materials, per-body colours where it sets none.
 PLAIN = SceneStyle()
 #: The gallery's style: per-body colours, base plate, triads, drive rings and joint axes.
-EXPLAINED = SceneStyle(ground=True, triads=True, drives=True, axes=True)
+EXPLAINED = SceneStyle.explained()
 
 
 class ExplainMixin:
