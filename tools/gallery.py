@@ -42,7 +42,7 @@ sys.path.insert(0, str(ROOT))
 
 import rcm_pin  # noqa: E402
 from rcm_pin.catalog.table import get_entry  # noqa: E402
-from rcm_pin.processes import atomic_write  # noqa: E402
+from rcm_pin.processes import atomic_write, folder_lock  # noqa: E402
 from rcm_pin.viz.caption import explained_png, key  # noqa: E402
 from rcm_pin.viz.decorations import drives  # noqa: E402
 from rcm_pin.viz.explain import EXPLAINED, SceneStyle  # noqa: E402
@@ -338,11 +338,12 @@ def main(argv: list[str] | None = None) -> int:
         print(f"unknown: {', '.join(unknown)}; valid: {', '.join(SHOTS)}", file=sys.stderr)
         return 2
     IMAGES.mkdir(parents=True, exist_ok=True)
-    manifest = _read_manifest()
-    for name in args.names or list(SHOTS):
-        manifest[name] = render(name)
-        _write(manifest)  # each picture recorded as it is made
-        print(f"{name}: {manifest[name]['route']}", flush=True)
+    with folder_lock(IMAGES, "docs/images/gallery"):  # one gallery run at a time
+        manifest = _read_manifest()
+        for name in args.names or list(SHOTS):
+            manifest[name] = render(name)
+            _write(manifest)  # each picture recorded as it is made
+            print(f"{name}: {manifest[name]['route']}", flush=True)
     return 0
 
 
