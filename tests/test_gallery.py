@@ -226,3 +226,20 @@ def test_gallery_is_complete_and_up_to_date():
     page = gallery.PAGE.read_text()
     for name, entry in manifest.items():
         assert f"![{name}](images/gallery/{name}.png)" in page and entry["caption"] in page
+
+
+def test_gallery_check_finds_what_is_missing_or_stale(monkeypatch):
+    """--check fails on a mechanism without a shot, on a changed pose (the scene digest)
+    and on a changed caption, naming the mechanism and the command that fixes it."""
+    shots = dict(gallery.SHOTS)
+    del shots["ur5"]
+    shots["four_bar"] = gallery.Shot(shots["four_bar"].text, (0.7,))
+    monkeypatch.setattr(gallery, "SHOTS", shots)
+    assert gallery.check(["four_bar"]) == [
+        "ur5: no shot in tools/gallery.py SHOTS",
+        "four_bar: stale scene (run python tools/gallery.py four_bar)",
+    ]
+    shots["four_bar"] = gallery.Shot("Another text.")
+    assert gallery.check(["four_bar"])[-1] == (
+        "four_bar: stale caption (run python tools/gallery.py four_bar)"
+    )
