@@ -61,6 +61,19 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--html", type=Path, help="write a self-contained static HTML page")
     p.add_argument("--png", type=Path, help="write a PNG (headless Chromium, else matplotlib)")
     p.add_argument(
+        "--explain",
+        action="store_true",
+        help="also draw a base plate, x/y/z arrows at the output (tool) frame and A, a ring "
+        "on every driven joint and a rod along every joint axis (docs/visualisation.md)",
+    )
+    p.add_argument(
+        "--colors",
+        choices=("auto", "urdf", "bodies"),
+        default="auto",
+        help="body colours: the URDF's materials, else one per body (auto, the default); "
+        "the URDF's only (urdf); one per body always (bodies)",
+    )
+    p.add_argument(
         "--host",
         default="127.0.0.1",
         help="live mode: the address the viewer listens on (default 127.0.0.1, this machine "
@@ -122,6 +135,7 @@ def cmd_view(args: argparse.Namespace) -> int:
 
 
 def _view(args: argparse.Namespace, kept: list[str]) -> int:
+    from rcm_pin.viz.explain import SceneStyle
     from rcm_pin.viz.snapshot import snapshot
     from rcm_pin.viz.viewer import Viewer
 
@@ -133,12 +147,15 @@ def _view(args: argparse.Namespace, kept: list[str]) -> int:
     inputs = parse_vector(args.q, "q", n_inputs) if args.q is not None else None
     traj = _load_traj(args.traj, n_inputs) if args.traj is not None else None
     live = args.html is None and args.png is None
+    colors = SceneStyle(args.colors)
+    style = SceneStyle.explained(args.colors) if args.explain else colors
     with (
         _stopped_by_sigterm(),
-        Viewer(mech, server=live, snapshot_style=not live, host=args.host) as viewer,
+        Viewer(mech, server=live, snapshot_style=not live, host=args.host, style=colors) as viewer,
     ):
         if inputs is not None or args.assembly != 0:
             viewer.display_inputs(viewer.inputs if inputs is None else inputs, args.assembly)
+        viewer.show_style(style)  # sized at the configuration shown
         viewer.fit_camera()
         q = viewer.q.copy()
         payload: dict[str, Any] = {
@@ -159,7 +176,7 @@ def _view(args: argparse.Namespace, kept: list[str]) -> int:
         if _publish(viewer, args, payload):
             return 0
     if args.png is not None:
-        payload["png_method"] = snapshot(mech, q, args.png)
+        payload["png_method"] = snapshot(mech, q, args.png, style=style)
         payload["png"] = str(args.png)
     lines = [
         f"{mech.name} at {', '.join(mech.input_names)} = {fmt(payload['q'])} "

@@ -23,13 +23,15 @@ import pinocchio as pin
 with warnings.catch_warnings():  # meshcat imports pyzmq's deprecated zmq.eventloop.ioloop
     warnings.simplefilter("ignore", DeprecationWarning)
     import meshcat
+    import meshcat.geometry as mg
     from meshcat.animation import Animation
     from pinocchio.visualize import MeshcatVisualizer
 
 from rcm_pin.errors import InvalidInputError
 from rcm_pin.model.meshes import drawable_urdf
 from rcm_pin.viz.camera import FOV_DEG, meshcat_position
-from rcm_pin.viz.scene import SceneRecorder
+from rcm_pin.viz.palette import check_mode, mesh_arrays, paint, repainted_meshes
+from rcm_pin.viz.scene import SceneRecorder, hex_color
 from rcm_pin.viz.server import LOCAL_HOST, start_server, stop_server
 
 _Scene = TypeVar("_Scene", bound="MeshcatScene")
@@ -66,7 +68,7 @@ class MeshcatScene:
 
     def _open(self, model: pin.Model, urdf: str, *, package_dirs: Sequence[str] = (),
               server: bool, zmq_url: str | None, snapshot_style: bool,
-              host: str = LOCAL_HOST) -> None:  # fmt: skip
+              host: str = LOCAL_HOST, colors: str = "urdf") -> None:  # fmt: skip
         """Create the visualizer and load the model's visual geometry (parsed from ``urdf``).
 
         Args:
@@ -78,7 +80,9 @@ class MeshcatScene:
             zmq_url: connect to a running local server instead.
             snapshot_style: white background, no grid or axes.
             host: the address the started server's web viewer listens on (127.0.0.1).
+            colors: body colours (:func:`rcm_pin.viz.palette.paint`).
         """
+        check_mode(colors)
         if zmq_url is not None:
             check_zmq_url(zmq_url)
         proc = None
@@ -93,12 +97,18 @@ class MeshcatScene:
         visual = pin.buildGeomFromUrdfString(  # meshes it cannot draw: warned, left out
             model, drawable_urdf(urdf), pin.GeometryType.VISUAL, package_dirs=list(package_dirs)
         )
+        paint(visual, colors)
         # No collision model: with the visual one as collision model Pinocchio loaded every
         # mesh a second time under .../collisions (hidden, but sent and exported: an arm's
         # page was twice as large).
         self.viz = MeshcatVisualizer(model, None, visual)
         self.viz.initViewer(viewer=self.vis)
         self.viz.loadViewerModel(rootNodeName="pinocchio")
+        for i in repainted_meshes(visual, colors):  # mesh files in the body colour
+            obj = visual.geometryObjects[i]
+            node = self.vis[self.viz.getViewerNodeName(obj, pin.GeometryType.VISUAL)]
+            material = mg.MeshPhongMaterial(color=hex_color(obj.meshColor))
+            node.set_object(mg.TriangularMeshGeometry(*mesh_arrays(obj)), material)
         if snapshot_style:  # white background, no grid or axes (for pictures)
             self.vis["/Background"].set_property("top_color", [1.0, 1.0, 1.0])
             self.vis["/Background"].set_property("bottom_color", [1.0, 1.0, 1.0])

@@ -15,6 +15,7 @@ Closed mechanisms are drawn at the configuration given (a closed one, as the vie
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 
 import numpy as np
@@ -23,7 +24,7 @@ import pinocchio as pin
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.viz.camera import frame_points
 from rcm_pin.viz.shading import render
-from rcm_pin.viz.triangles import body_meshes, marker_meshes, visual_model
+from rcm_pin.viz.triangles import Mesh, body_meshes, marker_meshes, visual_model
 
 #: What the picture shows, by whether the URDF has visual geometry.
 WHAT = {
@@ -41,6 +42,7 @@ def fallback_png(
     size: tuple[int, int] = (800, 600),
     camera: tuple[np.ndarray, np.ndarray] | None = None,
     geom: pin.GeometryModel | None = None,
+    decorations: tuple[Sequence[Mesh], Sequence[Mesh]] = ((), ()),
 ) -> Path:
     """Write the shaded picture of ``mech`` at coordinates ``q`` (module docstring).
 
@@ -54,6 +56,9 @@ def fallback_png(
         camera: (eye, target) world positions [m] (default: fitted to the bodies and
             markers, from the viewer's view direction).
         geom: the mechanism's visual GeometryModel (default: parsed from ``mech.urdf``).
+        decorations: world meshes of a viewer's decorations
+            (:meth:`rcm_pin.viz.viewer.Viewer.decoration_meshes`): the base plate, drawn
+            first, and the others, drawn with the bodies.
 
     Returns:
         The PNG path.
@@ -63,7 +68,8 @@ def fallback_png(
     """
     q = mech.check_q(q)
     geom = visual_model(mech) if geom is None else geom
-    bodies = body_meshes(mech, q, geom)
+    under, over = decorations
+    bodies = [*body_meshes(mech, q, geom), *over]
     markers = marker_meshes(mech, q)
     if camera is None:
         from rcm_pin.viz.viewer import view_direction
@@ -72,7 +78,7 @@ def fallback_png(
         camera = frame_points(points, view_direction(mech))
     if not title:
         title = f"{mech.name}: {WHAT[geom.ngeoms > 0]}"
-    path, _ = render(bodies, markers, *camera, png, size, "" if title == "-" else title)
+    path, _ = render(bodies, markers, *camera, png, size, "" if title == "-" else title, under)
     return path
 
 

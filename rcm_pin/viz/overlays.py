@@ -161,6 +161,7 @@ class OverlaysMixin:
     _data: pin.Data
     _points: dict[str, int]
     _span: tuple[float, float] | None
+    _decor: dict[str, Any]  # name -> rcm_pin.viz.explain.Decoration
 
     def display(self, q: np.ndarray) -> None:  # defined by the viewer
         raise NotImplementedError
@@ -209,6 +210,7 @@ class OverlaysMixin:
         out = {name: frame_point(model, data, fid) for name, fid in self._points.items()}
         if self._span is not None:
             out["tool_axis"] = axis_transform(self.mech, data, self._span)
+        out.update({name: d.transform(data) for name, d in self._decor.items()})
         return out
 
     def show_points(self, name: str, points: np.ndarray, values: np.ndarray | None = None, *,

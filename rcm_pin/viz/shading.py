@@ -106,7 +106,7 @@ def _layer(meshes: Sequence[Mesh], eye: np.ndarray, target: np.ndarray,
 
 def render(bodies: Sequence[Mesh], markers: Sequence[Mesh], eye: np.ndarray,
            target: np.ndarray, png: str | Path, size: tuple[int, int] = (800, 600),
-           title: str = "") -> tuple[Path, int]:  # fmt: skip
+           title: str = "", under: Sequence[Mesh] = ()) -> tuple[Path, int]:  # fmt: skip
     """Write the shaded picture of bodies and markers (module docstring).
 
     Args:
@@ -117,6 +117,8 @@ def render(bodies: Sequence[Mesh], markers: Sequence[Mesh], eye: np.ndarray,
         png: output path.
         size: width and height [px].
         title: text in the top-left corner (none if empty).
+        under: meshes drawn first, under everything (the base plate: its large faces would
+            not sort by depth with the bodies').
 
     Returns:
         The PNG path and the number of faces drawn.
@@ -133,7 +135,7 @@ def render(bodies: Sequence[Mesh], markers: Sequence[Mesh], eye: np.ndarray,
     ax.set_ylim(h, 0)
     ax.set_axis_off()
     drawn = 0
-    for layer in (bodies, *([m] for m in markers)):
+    for layer in (under, bodies, *([m] for m in markers)):
         px, rgba = _layer(layer, eye, target, (w, h), cell)
         if len(px):
             edges = rgba.copy()

@@ -25,6 +25,7 @@ import numpy as np
 from rcm_pin.errors import SnapshotError
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.viz.drawing import fallback_png
+from rcm_pin.viz.explain import PLAIN, SceneStyle
 
 if TYPE_CHECKING:
     from rcm_pin.viz.viewer import Viewer
@@ -146,8 +147,8 @@ def picture(
     Returns:
         ``"chromium"`` (the Meshcat scene rendered by headless Chromium) or ``"matplotlib"``
         (:func:`rcm_pin.viz.drawing.fallback_png` of the mechanism at ``viewer.q``: its
-        visual geometry shaded, with the viewer's markers and camera; used when Chromium is
-        absent or fails).
+        visual geometry shaded in the viewer's colours, with the default markers, the
+        viewer's decorations and camera; used when Chromium is absent or fails).
     """
     with tempfile.TemporaryDirectory(prefix="rcm_pin_scene_") as tmp:
         page = viewer.save_html(html or Path(tmp) / "scene.html", controls=False)
@@ -158,13 +159,14 @@ def picture(
             except SnapshotError:
                 pass
     fallback_png(viewer.mech, viewer.q, png, size=size, camera=viewer.camera,
-                 geom=viewer.viz.visual_model)  # fmt: skip
+                 geom=viewer.viz.visual_model,
+                 decorations=viewer.decoration_meshes())  # fmt: skip
     return "matplotlib"
 
 
 def snapshot(mech: Mechanism, q: np.ndarray | None, png: str | Path, *,
              html: str | Path | None = None, size: tuple[int, int] = (800, 600),
-             browser: bool = True) -> str:  # fmt: skip
+             browser: bool = True, style: SceneStyle = PLAIN) -> str:  # fmt: skip
     """Write a PNG of any mechanism at coordinates ``q``; returns the method used.
 
     Builds a :class:`~rcm_pin.viz.viewer.Viewer` (snapshot style, default markers),
@@ -178,14 +180,17 @@ def snapshot(mech: Mechanism, q: np.ndarray | None, png: str | Path, *,
         html: also keep the static Meshcat page here.
         size: picture size [px].
         browser: try headless Chromium first.
+        style: body colours and decorations (:class:`rcm_pin.viz.explain.SceneStyle`;
+            the base plate is sized at ``q``).
 
     Returns:
         ``"chromium"`` or ``"matplotlib"`` (see :func:`picture`).
     """
     from rcm_pin.viz.viewer import Viewer
 
-    with Viewer(mech, snapshot_style=True) as viewer:
+    with Viewer(mech, snapshot_style=True, style=SceneStyle(style.colors)) as viewer:
         if q is not None:
             viewer.display(q)
-            viewer.fit_camera()
+        viewer.show_style(style)  # decorations sized at q
+        viewer.fit_camera()
         return picture(viewer, png, html=html, size=size, browser=browser)

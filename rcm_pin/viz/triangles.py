@@ -181,6 +181,30 @@ def ball(p: np.ndarray, radius: float, rgba: tuple[float, ...]) -> Mesh:
     return Mesh(v + np.asarray(p), f, tuple(rgba))  # type: ignore[arg-type]
 
 
+def arrow(length: float, radius: float, rgba: tuple[float, ...], *, both: bool = False) -> Mesh:
+    """An arrow along local z from 0 to ``length`` [m] (``both``: from −length, two heads)."""
+    head, r = 0.24 * length, radius
+    z0 = -length if both else 0.0
+    profile = [[0.0, z0], [2.4 * r, z0 + head], [r, z0 + head]] if both else [[0.0, 0.0], [r, 0.0]]
+    profile += [[r, length - head], [2.4 * r, length - head], [0.0, length]]
+    v, f = _revolve(np.array(profile))
+    return Mesh(v, f, tuple(rgba))  # type: ignore[arg-type]
+
+
+def torus(radius: float, tube: float, rgba: tuple[float, ...]) -> Mesh:
+    """A ring of ``radius`` [m] about local z, tube radius ``tube`` [m]."""
+    s = np.linspace(0.0, 2 * np.pi, 17)
+    v, f = _revolve(np.c_[radius + tube * np.cos(s), tube * np.sin(s)])
+    return Mesh(v, f, tuple(rgba))  # type: ignore[arg-type]
+
+
+def slab(half: np.ndarray, rgba: tuple[float, ...]) -> Mesh:
+    """A box of half sides ``half`` [m] with a vertex triple per face (flat shading)."""
+    v, f = box(np.asarray(half, float))
+    tri = v[f].reshape(-1, 3)
+    return Mesh(tri, np.arange(len(tri)).reshape(-1, 3), tuple(rgba))  # type: ignore[arg-type]
+
+
 def rod_meshes(mech: Mechanism, q: np.ndarray) -> list[Mesh]:
     """Rods from each joint origin to its parent's (and to the cut frames), for a
     mechanism without visual geometry."""

@@ -38,6 +38,7 @@ from rcm_pin.viz import overlays as ov
 from rcm_pin.viz.assets import assets
 from rcm_pin.viz.base import OVERLAYS, MeshcatScene
 from rcm_pin.viz.camera import box_corners, frame_points, plane_basis, project
+from rcm_pin.viz.explain import PLAIN, ExplainMixin, SceneStyle
 from rcm_pin.viz.server import LOCAL_HOST
 
 #: Camera direction for planar mechanisms in (u, w, n) of the plane (mostly from above).
@@ -50,7 +51,7 @@ def view_direction(mech: Mechanism) -> np.ndarray | None:
     return None if n is None else plane_basis(n) @ PLANAR_VIEW
 
 
-class Viewer(ov.OverlaysMixin, MeshcatScene):
+class Viewer(ExplainMixin, ov.OverlaysMixin, MeshcatScene):
     """A Meshcat scene of one mechanism (module docstring).
 
     Args:
@@ -62,6 +63,9 @@ class Viewer(ov.OverlaysMixin, MeshcatScene):
         snapshot_style: white background and no grid (for screenshots).
         markers: draw the default markers (:func:`rcm_pin.viz.overlays.point_markers`,
             and the insertion axis where there is an RCM).
+        style: body colours and what else to draw (:class:`rcm_pin.viz.explain.SceneStyle`:
+            by default the URDF's materials, each body without one its own colour, and no
+            base plate, triads or drive markers; ``EXPLAINED`` draws them all).
 
     Attributes:
         mech: the mechanism.
@@ -77,13 +81,14 @@ class Viewer(ov.OverlaysMixin, MeshcatScene):
 
     def __init__(self, mech: Mechanism, *, server: bool = False, zmq_url: str | None = None,
                  snapshot_style: bool = False, markers: bool = True,
-                 host: str = LOCAL_HOST) -> None:  # fmt: skip
+                 host: str = LOCAL_HOST, style: SceneStyle = PLAIN) -> None:  # fmt: skip
         self.mech = mech
         self._open(mech.model, mech.urdf, package_dirs=list(assets(mech).mesh_dirs(mech)),
                    server=server, zmq_url=zmq_url, snapshot_style=snapshot_style,
-                   host=host)  # fmt: skip
+                   host=host, colors=style.colors)  # fmt: skip
         self._data = mech.model.createData()
         self._points: dict[str, int] = {}
+        self._decor = {}
         self._span: tuple[float, float] | None = None
         self.q, self.assembly = mech.home, "home"  # the one rule: rcm_pin.model.configurations
         if markers:
@@ -91,6 +96,7 @@ class Viewer(ov.OverlaysMixin, MeshcatScene):
             if mech.rcm is not None:
                 self.show_tool_axis()
         self.display(self.q)
+        self.show_style(style)
         self.fit_camera()
 
     # ------------------------------------------------------------------ state
@@ -233,7 +239,8 @@ class Viewer(ov.OverlaysMixin, MeshcatScene):
     # ---------------------------------------------------------------- camera
     def fit_camera(self, direction: np.ndarray | None = None, margin: float = 1.0,
                    extra: np.ndarray | None = None) -> None:  # fmt: skip
-        """Aim the camera at the bodies' bounding-box centre at the current q and fit them.
+        """Aim the camera at the centre of the bounding box of the bodies and markers at the
+        current q (:meth:`scene_points`; not the base plate) and fit them.
 
         Args:
             direction: from the centre towards the camera (default: from above the plane
@@ -242,19 +249,30 @@ class Viewer(ov.OverlaysMixin, MeshcatScene):
             extra: (N, 3) further world points to keep in view (e.g. workspace samples).
         """
         corners = [np.reshape(extra, (-1, 3))] if extra is not None else []
-        data, gdata = self._kinematics(self.q)
-        corners.append(np.array([M.translation for M in data.oMi]))
-        for T in self._overlay_transforms(self.q).values():
-            corners.append(T[None, :3, 3])
+        corners.append(self.scene_points(self.q, ground=True))
+        view = direction if direction is not None else view_direction(self.mech)
+        self.set_camera(*frame_points(np.vstack(corners), view, margin))
+
+    def scene_points(self, q: np.ndarray, ground: bool = False) -> np.ndarray:
+        """World points (N, 3) [m] that bound the scene at q: joint origins, the corners of
+        every visual object's box, the markers (both ends of the insertion-axis rod), the
+        decorations' origins, and with ``ground`` the base plate's corners."""
+        data, gdata = self._kinematics(q)
+        corners = [np.array([M.translation for M in data.oMi])]
+        overlays = self._overlay_transforms(q)
+        for name, T in overlays.items():
+            if name != "ground":
+                corners.append(T[None, :3, 3])
+            elif ground:
+                corners.append(self._decor[name].mesh.placed(T).vertices)
         if self._span is not None:  # both ends of the insertion-axis rod
-            T, (lo, hi) = self._overlay_transforms(self.q)["tool_axis"], self._span
+            T, (lo, hi) = overlays["tool_axis"], self._span
             corners.append(T[:3, 3] + np.outer([-0.5, 0.5], (hi - lo) * T[:3, 1]))
         for i, obj in enumerate(self.viz.visual_model.geometryObjects):
             obj.geometry.computeLocalAABB()
             box = obj.geometry.aabb_local
             corners.append(box_corners(box.min_, box.max_, gdata.oMg[i].homogeneous))
-        view = direction if direction is not None else view_direction(self.mech)
-        self.set_camera(*frame_points(np.vstack(corners), view, margin))
+        return np.vstack(corners)
 
     def project(self, points: np.ndarray, size: tuple[int, int] = (800, 600)) -> np.ndarray:
         """Pixel coordinates (N, 2) (column, row) of world points in a picture of ``size``."""
