@@ -50,12 +50,11 @@ SHOTS: dict[str, Shot] = {
         _RCM_VIEW,
     ),
     "rcm_two_mass": Shot(
-        "Its URDF has no visual geometry: orange rods join the joint origins (the matplotlib "
-        "picture; Meshcat would show the markers only). Two point masses: m at the tool "
-        "centre, q3 along the insertion axis, and m_d on the output axis at a fixed distance "
-        "from A; q1, q2 turn the axis about A.",
+        "A massless schematic: grey bearing blocks of q1 on the base; the blue cross shaft "
+        "turns q1 about x and carries q2 about y, both through A; on the orange output axis "
+        "the point mass m_d (a sphere) at a fixed distance from A, and the gold point mass m "
+        "at the tool centre, sliding along it (q3).",
         (0.3, -0.4, 0.09),
-        browser=False,
     ),
     "planar_3rrr": Shot(
         "Seen from above its plane. Three legs from the base pivots A1, A2, A3 (driven): "

@@ -26,7 +26,7 @@ from rcm_pin.viz.overlays import GREEN, RED
 #: Caption font size [pt] and line height [px] at 100 dpi.
 CAPTION_PT, LINE_PX = 10.5, 17
 #: Characters per caption line for each 100 px of picture width.
-CHARS_PER_100PX = 12.5
+CHARS_PER_100PX = 11.5
 #: Width of the key panel right of the scene [px].
 KEY_PX = 270
 #: Longest text of a key row (characters).
