@@ -144,7 +144,7 @@ def test_matplotlib_route_draws_the_same_decorations(tmp_path):
         ("spherical_3rrr", "urdf", 0),  # no materials: Pinocchio's grey kept
         ("spherical_3rrr", "auto", 20),  # no materials: every object its body's colour
         ("rcm_bevel", "auto", 0),  # every object has a URDF material: kept
-        ("rcm_bevel", "bodies", 21),  # replaced
+        ("rcm_bevel", "bodies", 27),  # replaced: all 27 objects (hubs included)
         ("panda", "auto", 0),  # meshes keep their own materials
         ("panda", "bodies", 11),
     ],
