@@ -167,7 +167,8 @@ def _errors(model: Any, solver: Any, limits: np.ndarray | None, n: int) -> dict[
 
 
 def run(rounds: int = 5, n_intervals: int = 100) -> dict[str, Any]:
-    """Median solve times of ``rounds`` solves per case and solver (prints nothing)."""
+    """Median solve times of ``rounds`` solves per case and solver, after one untimed
+    warm-up solve each (prints nothing)."""
     import pinocchio as pin
 
     model = pin.buildModelFromUrdf(str(URDF))
@@ -185,6 +186,7 @@ def run(rounds: int = 5, n_intervals: int = 100) -> dict[str, Any]:
     for case, (limits, kinds) in cases.items():
         for kind in kinds:
             shooting, model, x0 = problem(n_intervals, limits, kind == "csqp")
+            _solve(kind, shooting, x0, MAX_ITER[case])  # warm-up (first-call allocations)
             runs = [_solve(kind, shooting, x0, MAX_ITER[case]) for _ in range(rounds)]
             last = runs[-1]
             row = {k: v for k, v in last.items() if k not in ("solver", "ms")}
