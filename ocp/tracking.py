@@ -230,7 +230,7 @@ class TrackingOCP(TrackingGrid):
             _, tol, max_iter, jit, hessian, compile = self._settings
 
             def options(nlp: StagewiseNLP, n_path: int) -> dict[str, Any]:
-                return nlp_options(nlp, "ipopt", tol, max_iter, n_path, self, stagnation=True)
+                return nlp_options(nlp, "ipopt", tol, max_iter, n_path, self)
 
             self._reduced = ReducedTracking(
                 self,

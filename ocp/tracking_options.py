@@ -7,13 +7,6 @@ from typing import Any
 from ocp.stagewise import StagewiseNLP
 from ocp.tracking_grid import TrackingGrid
 
-#: IPOPT's stop at stagnation (the reduced NLP): "acceptable" once 3 iterates in a row keep
-#: the objective within 1e-14 (relative) and the KKT error within its acceptable_tol. With
-#: tol = 1e-12 below what rounding allows (the dual infeasibility stalls at 6e-10 on paper
-#: 000's binding case), IPOPT otherwise idles 15 iterations there (50 -> 42 iterations;
-#: q moves 4e-15, tau 5e-11).
-STAGNATION = {"acceptable_obj_change_tol": 1e-14, "acceptable_iter": 3}
-
 
 def nlp_options(
     nlp: StagewiseNLP,
@@ -22,12 +15,11 @@ def nlp_options(
     max_iter: int,
     n_path: int,
     grid: TrackingGrid,
-    stagnation: bool = False,
 ) -> dict[str, Any]:
     """``nlpsol`` options: IPOPT with the stage-wise derivatives of ``nlp`` (print level 0,
-    ``tol``, adaptive barrier; ``stagnation``: :data:`STAGNATION`) or fatrop with the OCP's
-    structure given manually (:class:`ocp.tracking_grid.TrackingGrid`'s ``[x_k, u_k]``
-    layout, ``n_path`` path constraints per stage)."""
+    ``tol``, adaptive barrier) or fatrop with the OCP's structure given manually
+    (:class:`ocp.tracking_grid.TrackingGrid`'s ``[x_k, u_k]`` layout, ``n_path`` path
+    constraints per stage)."""
     opts: dict[str, Any] = nlp.solver_options() if solver == "ipopt" else {}
     opts.update(error_on_fail=False, print_time=False)
     if solver == "ipopt":
@@ -37,7 +29,6 @@ def nlp_options(
             "tol": tol,
             "max_iter": max_iter,
             "mu_strategy": "adaptive",
-            **(STAGNATION if stagnation else {}),
         }
         return opts
     # fatrop stops with a failure below ~1e-10 on this problem: floor its tolerance
@@ -52,4 +43,4 @@ def nlp_options(
     return opts
 
 
-__all__ = ["STAGNATION", "nlp_options"]
+__all__ = ["nlp_options"]
