@@ -44,8 +44,9 @@ import numpy as np
 from ocp.buffered import BufferedFunction
 from ocp.collocation import Collocation
 from ocp.compiled import compile_lazy
+from rcm_pin.errors import InvalidInputError
 
-#: Bump when newton_stage / newton_cost change: part of their disk-cache key.
+#: Bump when newton_stage changes: part of its disk-cache key.
 NEWTON_VERSION = "1"
 #: Armijo's sufficient-decrease fraction, and the predicted decrease (relative to |f|)
 #: below which f's rounding hides it.
@@ -110,7 +111,10 @@ class NewtonTracking:
 
     def __init__(self, fun: ca.Function, col: Collocation, n: int, n_stages: int) -> None:
         if col.scheme != "radau":
-            raise ValueError("Newton's elimination of the node states needs Radau collocation")
+            raise InvalidInputError(
+                f"Newton's elimination of the node states needs Radau collocation (its last "
+                f"point is the interval's end); got {col.scheme!r}; valid: 'radau'"
+            )
         d, big_n = col.degree, n_stages
         self.n, self.d, self.N, self.col = n, d, big_n, col
         s, stride = n + 2 * d * n, d * n
