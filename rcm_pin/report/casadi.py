@@ -150,8 +150,8 @@ inverse dynamics as the effort model, the gaps solved for the node states; Newto
 without path constraints, IPOPT (cost Hessian) when the drive limits bind:
 
 * drives unlimited ({feasible.solver}): {feasible.iterations} iterations,
-  {1e3 * feasible.solve_time:.0f} ms,
-  tracking error {feasible.tracking_error:.1e} m; versus the analytic route on the same
+  {1e3 * feasible.solve_time:.0f} ms, tracking error {feasible.tracking_error:.1e} m;
+  versus the analytic route on the same
   grid (analytic IK + collocation + RNEA) the efforts differ by
   {np.abs(feasible.tau - exact.tau).max():.1e}; versus the continuous exact solution by
   {np.abs(feasible.tau - cont.tau).max():.1e} (discretisation, second order in h);
