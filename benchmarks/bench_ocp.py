@@ -197,15 +197,20 @@ def bench_tracking(jit: bool, sizes: list[int]) -> None:
 
 
 #: Configurations of the JSON tracking benchmark: build and solve keyword arguments.
-#: ``vm_exact`` (no screening) is the solve before issue 17 and the reference solution;
-#: the defaults since then are ``vm_exact_screen`` (screening on, no compilation).
+#: ``vm_exact`` (the full NLP, exact Hessian, no screening) is the solve before issue 17 and
+#: the reference solution; ``vm_exact_screen`` the default of issue 17; ``default`` the
+#: default since issue 27 (the reduced problem: Newton's method, IPOPT with the cost Hessian
+#: when limits bind; ``ocp.tracking_reduced``), ``default_compiled`` with ``compile=True``.
+FULL: dict[str, Any] = {"reduced": False, "hessian": "exact"}
 TRACKING_CONFIGS: dict[str, tuple[dict[str, Any], dict[str, Any]]] = {
-    "vm_exact": ({}, {"screen": False}),
-    "vm_exact_screen": ({}, {"screen": True}),
-    "compiled_exact": ({"compile": "-O1"}, {"screen": False}),
-    "compiled_exact_O0": ({"compile": "-O0"}, {"screen": False}),
-    "compiled_cost": ({"compile": "-O1", "hessian": "cost"}, {"screen": False}),
-    "compiled_exact_screen": ({"compile": "-O1"}, {"screen": True}),
+    "vm_exact": (FULL, {"screen": False}),
+    "vm_exact_screen": (FULL, {"screen": True}),
+    "compiled_exact": ({**FULL, "compile": "-O1"}, {"screen": False}),
+    "compiled_exact_O0": ({**FULL, "compile": "-O0"}, {"screen": False}),
+    "compiled_cost": ({**FULL, "compile": "-O1", "hessian": "cost"}, {"screen": False}),
+    "compiled_exact_screen": ({**FULL, "compile": "-O1"}, {"screen": True}),
+    "default": ({}, {}),
+    "default_compiled": ({"compile": "-O1"}, {}),
 }
 #: Cases: (drive-limit constraints, wrist locked, limits) and the floor each is compared to.
 TRACKING_CASES = {

@@ -254,7 +254,7 @@ def _check_track(
     worst = _worst_violation(mech, ocp, res, lim)
     if res.success and worst is None:
         return
-    inf_pr = ocp.solver.stats().get("iterations", {}).get("inf_pr", [])
+    inf_pr = ocp.limited_stats().get("iterations", {}).get("inf_pr", [])
     primal = float(inf_pr[-1]) if len(inf_pr) else None
     why = f"{res.solver} {res.status} after {res.iterations} iterations"
     if primal is not None:

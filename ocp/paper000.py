@@ -114,11 +114,12 @@ def build(
     drive_limits: bool = True,
     lock_wrist: bool = False,
     jit: bool = False,
-    hessian: Hessian = "exact",
+    hessian: Hessian | None = None,
     compile: bool | str = False,
+    reduced: bool = True,
 ) -> tuple[TrackingOCP, rcm_pin.Mechanism]:
     """The tracking OCP of the tool centre of ``name`` over one period (``jit``,
-    ``hessian``, ``compile``: see :class:`ocp.tracking.TrackingOCP`).
+    ``hessian``, ``compile``, ``reduced``: see :class:`ocp.tracking.TrackingOCP`).
 
     Raises:
         InvalidInputError: a closed mechanism, or one whose family has no closed-form
@@ -151,6 +152,7 @@ def build(
         jit=jit,
         hessian=hessian,
         compile=compile,
+        reduced=reduced,
     )
     return ocp, mech
 

@@ -20,20 +20,19 @@ each (:mod:`ocp.collocation`, Radau IIA by default), in the order of the math:
   present when enabled at construction, values set per solve);
 * boundary condition: ``x_0 = x_init`` (bounds);
 * initial guess: given, or "hold" (``q_init`` everywhere, node velocities ``v_init``);
-* solve: IPOPT (exact Hessian) or fatrop (structure given manually: the layout above is
-  fatrop's ``[x_k, u_k]`` / ``[gap_k, path_k]`` order). Derivatives are assembled stage by
-  stage (:mod:`ocp.stagewise`); ``jit=True`` compiles the stage functions with CasADi's
-  JIT at every build, ``compile=True`` (or C compiler flags, e.g. ``"-O0"``) through the
-  disk cache of :mod:`ocp.compiled` (once per model, frame, scheme, weights and limits
-  present: the step enters the stage as a parameter, :mod:`ocp.tracking_stage`);
-  ``hessian="cost"`` hands IPOPT the cost's Hessian only (the constraints' curvature, i.e.
-  the drive limits' ``lam . d2 tau``, dropped: exact while the limits are inactive);
-  ``solve`` (``screen=True``, the default) solves without the path constraints first and
-  keeps that solution when it respects the limits (:meth:`TrackingOCP.solve`).
+* solve: ``reduced=True`` (the default with Radau and IPOPT, :mod:`ocp.tracking_reduced`)
+  solves the gaps for the node states: Newton's method on the collocation positions solves
+  the problem without path constraints and its solution is returned when it keeps every
+  limit (a KKT point, zero multipliers); else IPOPT solves the reduced NLP. ``reduced=False``
+  (or fatrop, whose ``[x_k, u_k]`` / ``[gap_k, path_k]`` order is given manually): the full
+  NLP. Derivatives are assembled stage by stage (:mod:`ocp.stagewise`); ``jit=True``:
+  CasADi's JIT; ``compile=True`` (or C flags, ``"-O0"``): :mod:`ocp.compiled`'s disk cache,
+  once per model, frame, scheme, weights and limits present (h is a stage parameter);
+  ``hessian="cost"`` (IPOPT's default): the cost's Hessian only (exact while the limits are
+  inactive, the same KKT point when they bind), ``"exact"`` (fatrop's) the Lagrangian's.
 
 The model is a serial :class:`rcm_pin.Mechanism` (default frame: its tool frame) or a
-``pin.Model`` with a frame; the efforts are eliminated through the tree's inverse
-dynamics, so a closed Mechanism (its loops need constraint forces) is refused.
+``pin.Model`` with a frame (efforts by the tree's inverse dynamics: closed ones refused).
 """
 
 from __future__ import annotations
@@ -50,36 +49,14 @@ from ocp.collocation import Scheme, collocation
 from ocp.models import ModelSource, require_serial, resolve
 from ocp.stagewise import Hessian, StagewiseNLP
 from ocp.symbolic import JIT_OPTIONS, SymbolicModel
-from ocp.tracking_grid import TrackingGrid
+from ocp.tracking_grid import BYTES_PER_VARIABLE, MAX_BYTES, TrackingGrid, check_size
+from ocp.tracking_options import nlp_options
+from ocp.tracking_reduced import ReducedTracking
 from ocp.tracking_result import TrackingResult, make_result
 from ocp.tracking_stage import StageCost, tracking_stage
 from rcm_pin.errors import InvalidInputError, SolverError
 
 Reference = Callable[[np.ndarray], np.ndarray] | np.ndarray
-
-#: Resident memory per decision variable of the solve [bytes] (the NLP, IPOPT's sparse
-#: derivatives and MUMPS's factors; measured on paper 000's OCP, 6 joints, degree 3:
-#: 44-48 kB per interval of 30 variables from N = 400 to 6400).
-BYTES_PER_VARIABLE = 1500
-#: Largest estimated memory of a tracking OCP [bytes] (paper 000's OCP: N <= 23 860).
-MAX_BYTES = 1 << 30
-
-
-def check_size(n_intervals: int, nv: int, degree: int) -> None:
-    """Refuse a grid whose estimated memory exceeds :data:`MAX_BYTES`.
-
-    Raises:
-        InvalidInputError: N (nx + nu) :data:`BYTES_PER_VARIABLE` > :data:`MAX_BYTES`; the
-            message gives the estimate and the largest N.
-    """
-    per_interval = nv * (2 + degree) * BYTES_PER_VARIABLE
-    largest = MAX_BYTES // per_interval
-    if n_intervals > largest:
-        raise InvalidInputError(
-            f"n_intervals {n_intervals} needs about {n_intervals * per_interval / 1e9:.3g} GB "
-            f"of memory ({per_interval / 1e3:.0f} kB per interval of {nv * (2 + degree)} "
-            f"variables); valid: 1 to {largest} intervals ({MAX_BYTES / 2**30:g} GiB)"
-        )
 
 
 class TrackingOCP(TrackingGrid):
@@ -105,8 +82,9 @@ class TrackingOCP(TrackingGrid):
         tol: float = 1e-12,
         max_iter: int = 200,
         jit: bool = False,
-        hessian: Hessian = "exact",
+        hessian: Hessian | None = None,
         compile: bool | str = False,
+        reduced: bool = True,
     ) -> None:
         require_serial(model, "the tracking OCP")
         src = resolve(model, frame)
@@ -117,6 +95,7 @@ class TrackingOCP(TrackingGrid):
         if horizon <= 0 or n_intervals < 1 or solver not in ("ipopt", "fatrop"):
             raise InvalidInputError("need horizon > 0, n_intervals >= 1, solver ipopt|fatrop")
         check_size(n_intervals, n, degree)
+        hessian = hessian or ("exact" if solver == "fatrop" else "cost")
         fatrop_custom = solver == "fatrop" and (hessian != "exact" or bool(compile))
         if hessian not in ("exact", "cost") or fatrop_custom or (jit and compile):
             raise InvalidInputError(
@@ -140,55 +119,25 @@ class TrackingOCP(TrackingGrid):
         self._settings = (solver, tol, max_iter, jit, hessian, compile)
         self.nlp, self.solver = self._nlp_solver(self.stage)
         self._unlimited: tuple[StagewiseNLP, ca.Function] | None = None
+        self.reduced = bool(reduced) and solver == "ipopt" and scheme == "radau"
+        self._reduced: ReducedTracking | None = None
 
     def _nlp_solver(self, stage: ca.Function) -> tuple[StagewiseNLP, ca.Function]:
         """The NLP over all stages (variables in fatrop's ``[x_0, u_0, ..., x_N]`` order)."""
         solver, tol, max_iter, jit, hessian, compile = self._settings
-        n, d = self.sm.nv, self.col.degree
-        pref_all, post_mx = ca.MX.sym("p_ref", 3, self.N * d), ca.MX.sym("posture", n)
-        steps = np.tile([[1.0 / self.h], [self.h / self.T]], (1, self.N))
-        params = ca.vertcat(
-            ca.reshape(pref_all, 3 * d, self.N), ca.repmat(post_mx, 1, self.N), ca.DM(steps)
-        )
         nlp = StagewiseNLP(
             stage,
             self.N,
             self.nx + self.nu,
             self.nx,
-            params,
-            ca.vertcat(ca.vec(pref_all), post_mx),
+            *self.parameter_symbols(),
             dict(JIT_OPTIONS) if jit else {},
             hessian=hessian,
             compile=("-O1" if compile is True else compile) or None,
         )
         problem = nlp.nlp if solver == "ipopt" else nlp.expanded()
-        opts = self._options(nlp, solver, tol, max_iter, stage.size1_out(0) - self.nx)
+        opts = nlp_options(nlp, solver, tol, max_iter, stage.size1_out(0) - self.nx, self)
         return nlp, ca.nlpsol(f"tracking_{solver}", solver, problem, opts)
-
-    def _options(
-        self, nlp: StagewiseNLP, solver: str, tol: float, max_iter: int, n_path: int
-    ) -> dict[str, Any]:
-        opts: dict[str, Any] = nlp.solver_options() if solver == "ipopt" else {}
-        opts.update(error_on_fail=False, print_time=False)
-        if solver == "ipopt":
-            opts["ipopt"] = {
-                "print_level": 0,
-                "sb": "yes",
-                "tol": tol,
-                "max_iter": max_iter,
-                "mu_strategy": "adaptive",
-            }
-            return opts
-        # fatrop stops with a failure below ~1e-10 on this problem: floor its tolerance
-        opts.update(
-            structure_detection="manual",
-            N=self.N,
-            nx=[self.nx] * (self.N + 1),
-            nu=[self.nu] * self.N + [0],
-            ng=[n_path] * self.N + [0],
-            fatrop={"print_level": 0, "tol": max(tol, 1e-10), "max_iter": max_iter},
-        )
-        return opts
 
     # -- solve ---------------------------------------------------------------------------
     def solve(
@@ -207,13 +156,13 @@ class TrackingOCP(TrackingGrid):
         state ``x_init = (q, v)``; ``effort_limits`` (nv,) bound ``|tau|``.
 
         ``screen=True`` (the default) with finite limits first solves without the path
-        constraints (an NLP built on first use): a solution within the limits is a KKT
-        point of the limited problem (zero multipliers) and is returned; otherwise the
-        limited problem is solved from the same guess (iterations and solve time then count
-        both solves). The screened solution is the limited optimum without the interior
-        point's barrier bias (paper 000, URDF limits: 2e-13 in q from the analytic
-        zero-cost solution, against 1.4e-11 for the limited solve); ``screen=False`` always
-        solves the limited problem.
+        constraints (Newton's method; with ``reduced=False`` an NLP built on first use): a
+        solution within the limits is a KKT point of the limited problem (zero multipliers)
+        and is returned; otherwise the limited problem is solved from the same guess
+        (iterations and solve time then count both). Paper 000, URDF limits: Newton's q is
+        2e-16 from the analytic zero-cost solution (the unlimited IPOPT solve 2e-13, the
+        limited one 1.4e-11: its barrier bias). Without finite limits Newton's method serves
+        whatever ``screen`` (IPOPT when its solution leaves a joint limit or it fails).
         """
         tc = self.collocation_times()
         pref = np.asarray(reference(tc) if callable(reference) else reference, dtype=float)
@@ -225,11 +174,22 @@ class TrackingOCP(TrackingGrid):
         bounds = self.bounds(x_init, effort_limits, velocity_limits)
         pars, screened = np.concatenate([pref.reshape(-1), post]), None
         limits = (effort_limits, velocity_limits)
-        if screen and any(lim is not None and np.isfinite(lim).any() for lim in limits):
+        finite = any(lim is not None and np.isfinite(lim).any() for lim in limits)
+        if self.reduced:
+            route = self._route()
+            if screen or not finite:
+                newton = route.solve_newton(w0, pref, post, x_init, self._settings[2])
+                screened = self._result(pref, *newton)
+                if screened.success and self.keeps(screened, limits):
+                    return screened
+            result = self._result(pref, *route.solve_ipopt(w0, pars, bounds, x_init))
+        elif screen and finite:
             screened, within = self._screen(w0, pars, pref, bounds, limits)
-            if within:
-                return screened
-        result = self._call(self.solver, w0, pars, pref, bounds)
+            result = screened if within else self._call(self.solver, w0, pars, pref, bounds)
+        else:
+            result = self._call(self.solver, w0, pars, pref, bounds)
+        if result is screened:
+            return result
         if screened is not None:
             result = replace(
                 result,
@@ -250,7 +210,38 @@ class TrackingOCP(TrackingGrid):
         sol = solver(x0=w0, p=pars, **bounds)
         wall = time.perf_counter() - start
         w, f = np.asarray(sol["x"]).reshape(-1), float(sol["f"])
-        return self._result(w, pref, f, solver.stats(), wall)
+        return self._result(pref, w, f, solver.stats(), wall, self.solver_name)
+
+    def _free_stage(self) -> ca.Function:
+        """The stage without path constraints (gaps only)."""
+        return tracking_stage(self.sm, self.fid, self.col, self._cost, False, False)[0]
+
+    def limited_stats(self) -> dict[str, Any]:
+        """``stats()`` of the last solve of the problem with path constraints (IPOPT's on
+        the reduced NLP with ``reduced=True``, else the full NLP's); {} before any."""
+        try:
+            return dict((self._route()._solver() if self.reduced else self.solver).stats())
+        except RuntimeError:  # CasADi: no stats before the first evaluation
+            return {}
+
+    def _route(self) -> ReducedTracking:
+        """The reduced problem's solvers (:mod:`ocp.tracking_reduced`), built on first use."""
+        if self._reduced is None:
+            _, tol, max_iter, jit, hessian, compile = self._settings
+
+            def options(nlp: StagewiseNLP, n_path: int) -> dict[str, Any]:
+                return nlp_options(nlp, "ipopt", tol, max_iter, n_path, self)
+
+            self._reduced = ReducedTracking(
+                self,
+                self._free_stage(),
+                self.stage,
+                opts=dict(JIT_OPTIONS) if jit else None,
+                compile=("-O1" if compile is True else compile) or None,
+                hessian=hessian,
+                ipopt_options=options,
+            )
+        return self._reduced
 
     def _screen(
         self,
@@ -262,8 +253,7 @@ class TrackingOCP(TrackingGrid):
     ) -> tuple[TrackingResult, bool]:
         """The solve without path constraints, and whether it succeeded within the limits."""
         if self._unlimited is None:
-            stage = tracking_stage(self.sm, self.fid, self.col, self._cost, False, False)[0]
-            self._unlimited = self._nlp_solver(stage)
+            self._unlimited = self._nlp_solver(self._free_stage())
         gaps = np.zeros(self.N * self.nx)
         free = {"lbx": bounds["lbx"], "ubx": bounds["ubx"], "lbg": gaps, "ubg": gaps}
         res = self._call(self._unlimited[1], w0, pars, pref, free)
@@ -273,14 +263,20 @@ class TrackingOCP(TrackingGrid):
         return res, within
 
     def _result(
-        self, w: np.ndarray, pref: np.ndarray, f: float, stats: dict[str, Any], wall: float
+        self,
+        pref: np.ndarray,
+        w: np.ndarray,
+        f: float,
+        stats: dict[str, Any],
+        wall: float,
+        solver: str,
     ) -> TrackingResult:
         n = self.sm.nv
         x, u = self._split(w)
         zs = np.hstack([x[:-1], u, x[1:]]).T
         outs = [np.asarray(o).T for o in self.outputs.map(self.N)(zs, 1.0 / self.h)]
         grid = (np.arange(self.N + 1) * self.h, x[:, :n], x[:, n:], self.collocation_times())
-        return make_result(grid, u.reshape(-1, n), outs, pref, f, stats, wall, self.solver_name)
+        return make_result(grid, u.reshape(-1, n), outs, pref, f, stats, wall, solver)
 
 
 __all__ = ["BYTES_PER_VARIABLE", "MAX_BYTES", "TrackingOCP", "TrackingResult", "check_size"]

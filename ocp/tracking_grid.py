@@ -7,11 +7,38 @@ constraints per stage ``[gap (nx); drive limits (n d); velocity limits (n d)]``.
 
 from __future__ import annotations
 
+from typing import Any
+
+import casadi as ca
 import numpy as np
 
 from ocp.collocation import Collocation
 from ocp.symbolic import SymbolicModel
 from rcm_pin.errors import InvalidInputError
+
+#: Resident memory per decision variable of the solve [bytes] (the NLP, IPOPT's sparse
+#: derivatives and MUMPS's factors; measured on paper 000's OCP, 6 joints, degree 3:
+#: 44-48 kB per interval of 30 variables from N = 400 to 6400).
+BYTES_PER_VARIABLE = 1500
+#: Largest estimated memory of a tracking OCP [bytes] (paper 000's OCP: N <= 23 860).
+MAX_BYTES = 1 << 30
+
+
+def check_size(n_intervals: int, nv: int, degree: int) -> None:
+    """Refuse a grid whose estimated memory exceeds :data:`MAX_BYTES`.
+
+    Raises:
+        InvalidInputError: N (nx + nu) :data:`BYTES_PER_VARIABLE` > :data:`MAX_BYTES`; the
+            message gives the estimate and the largest N.
+    """
+    per_interval = nv * (2 + degree) * BYTES_PER_VARIABLE
+    largest = MAX_BYTES // per_interval
+    if n_intervals > largest:
+        raise InvalidInputError(
+            f"n_intervals {n_intervals} needs about {n_intervals * per_interval / 1e9:.3g} GB "
+            f"of memory ({per_interval / 1e3:.0f} kB per interval of {nv * (2 + degree)} "
+            f"variables); valid: 1 to {largest} intervals ({MAX_BYTES / 2**30:g} GiB)"
+        )
 
 
 class TrackingGrid:
@@ -21,6 +48,7 @@ class TrackingGrid:
     col: Collocation
     N: int
     h: float
+    T: float
     nx: int
     nu: int
     lower: np.ndarray
@@ -71,6 +99,40 @@ class TrackingGrid:
         lbg = np.tile(np.concatenate([np.zeros(self.nx), -path]), self.N)
         return {"lbx": lbx, "ubx": ubx, "lbg": lbg, "ubg": ubg}
 
+    def keeps(self, res: Any, limits: tuple[np.ndarray | None, np.ndarray | None]) -> bool:
+        """Whether ``res`` keeps the joint limits (nodes and collocation points) and the
+        drive and velocity limits."""
+        for q in (res.q, res.q_colloc):
+            if np.any(q < self.lower) or np.any(q > self.upper):
+                return False
+        return all(
+            lim is None or bool(np.all(np.abs(value) <= lim))
+            for lim, value in zip(limits, (res.tau, res.v_colloc))
+        )
+
+    def parameter_symbols(self) -> tuple[ca.MX, ca.MX]:
+        """The stage parameter columns (np, N) as a function of the NLP's parameter
+        ``p = (p_ref (N d points, column-major (3, N d)), posture)``: the MX of both."""
+        n, d = self.sm.nv, self.col.degree
+        pref_all, post_mx = ca.MX.sym("p_ref", 3, self.N * d), ca.MX.sym("posture", n)
+        steps = np.tile([[1.0 / self.h], [self.h / self.T]], (1, self.N))
+        params = ca.vertcat(
+            ca.reshape(pref_all, 3 * d, self.N), ca.repmat(post_mx, 1, self.N), ca.DM(steps)
+        )
+        return params, ca.vertcat(ca.vec(pref_all), post_mx)
+
+    def stage_parameters(self, pref: np.ndarray, posture: np.ndarray) -> np.ndarray:
+        """The stage parameter columns ``(p_ref (3 d), posture, 1/h, h/T)`` (np, N) of a
+        reference at the collocation points (N d, 3)."""
+        return np.vstack(
+            [
+                pref.reshape(self.N, 3 * self.col.degree).T,
+                np.tile(np.asarray(posture, float)[:, None], (1, self.N)),
+                np.full((1, self.N), 1.0 / self.h),
+                np.full((1, self.N), self.h / self.T),
+            ]
+        )
+
     def collocation_times(self) -> np.ndarray:
         """Times of the ``N d`` collocation points."""
         k = np.arange(self.N)[:, None]
@@ -93,4 +155,4 @@ class TrackingGrid:
         return self._join(x, np.tile(x_init[:n], (self.N, self.col.degree)))
 
 
-__all__ = ["TrackingGrid"]
+__all__ = ["BYTES_PER_VARIABLE", "MAX_BYTES", "TrackingGrid", "check_size"]

@@ -170,9 +170,15 @@ def test_infeasible_track_api_raises_with_a_small_result(monkeypatch, peak_q123)
     assert result["n_intervals"] == 10
     _check_infeasible_result(result, peak_q123)
     ocp, mech, res = seen["ocp"], seen["mech"], seen["res"]
-    stats, screening = ocp.solver.stats(), ocp._unlimited[1].stats()
+    stats = ocp.limited_stats()
+    screening = ocp._route().newton.solve(
+        ocp._split(ocp.hold_guess(paper.initial_state(mech)))[1].ravel(),
+        paper.initial_state(mech),
+        ocp.stage_parameters(res.p_ref, np.zeros(mech.nq)),
+        ocp.h,
+    )  # the screening solve (Newton's method): the same iterations again
     assert result["primal_infeasibility"] == stats["iterations"]["inf_pr"][-1]
-    assert result["iterations"] == res.iterations == stats["iter_count"] + screening["iter_count"]
+    assert result["iterations"] == res.iterations == stats["iter_count"] + screening.iterations
     # the worst violation, recomputed: the largest |tau| / limit of q1..q3 ...
     tau, limits = np.abs(mech.from_pin(res.tau))[:, :3], np.array(result["effort_limits"][:3])
     k, i = np.unravel_index(np.argmax(tau / limits), tau.shape)

@@ -146,17 +146,20 @@ q5 = 0, reach another exact solution); median {ik["iterations"]:.0f} iterations,
 **Tracking OCP, paper 000's reference** (x = 0.1 + 0.01 sin 10t, y = 0.1 + 0.01 cos 10t,
 z = 0.1 + 0.01 sin 10t over one period; |p| up to 0.186 m, so q3's upper limit is widened
 from the rig's 0.12 m to {paper.Q3_UPPER} m). Radau collocation, N = {n_intervals}, d = 3,
-inverse dynamics as the effort model, IPOPT with the exact Hessian:
+inverse dynamics as the effort model, the gaps solved for the node states; Newton's method
+without path constraints, IPOPT (cost Hessian) when the drive limits bind:
 
-* drives unlimited: {feasible.iterations} iterations, {1e3 * feasible.solve_time:.0f} ms,
-  tracking error {feasible.tracking_error:.1e} m; versus the analytic route on the same
+* drives unlimited ({feasible.solver}): {feasible.iterations} iterations,
+  {1e3 * feasible.solve_time:.0f} ms, tracking error {feasible.tracking_error:.1e} m;
+  versus the analytic route on the same
   grid (analytic IK + collocation + RNEA) the efforts differ by
   {np.abs(feasible.tau - exact.tau).max():.1e}; versus the continuous exact solution by
   {np.abs(feasible.tau - cont.tau).max():.1e} (discretisation, second order in h);
 * analytic peak efforts q1..q3: {peak[0]:.3f} N m, {peak[1]:.3f} N m, {peak[2]:.3f} N;
   with drive limits at 80 % of these (wrist locked), the feasible limited solution
   tracks within {1e3 * limited.tracking_error:.1f} mm (rms
-  {1e3 * limited.tracking_rms:.1f} mm), {limited.iterations} iterations.
+  {1e3 * limited.tracking_rms:.1f} mm), {limited.iterations} iterations (Newton's screening
+  solve and {limited.solver}'s).
 
 ![tracking OCP]({FIGURE})
 """
