@@ -1,33 +1,33 @@
-"""RCM inverse kinematics of panda: rcm-pin's routes beside Drake, rounds interleaved.
+"""RCM inverse kinematics of panda: rcm-pin's own routes, rounds interleaved.
 
-The problem is the one of ``benchmarks/peers/drake_rcm_ik.py`` (its constants and its
-URDF preparation are imported from there): panda's hand z axis as the shaft, the tip
-0.3 m along it, the trocar on the shaft at the "ready" pose, 100 tip targets on a 3 cm
-circle around the start tip, each solve warm-started from the previous one. Per round:
+The case is the harness's row ``rcm_ik`` (``benchmarks/peers/rows.py``,
+:func:`rcm_ik_case`: ``rcm_pin.studies.rcm_comparison.make_setup("panda")`` at its chosen
+trocar, 100 tip targets along the ``surgical_paths`` circle after its start, the start
+configuration on the path's first point), each solve warm-started from the previous one.
+Per round:
 
 * ``lm``: :class:`ocp.rcm.RcmIK` with ``solver="lm"`` (compiled projected LM, the default);
 * ``ipopt``: the same with ``solver="ipopt"`` (the NLP, tol 1e-12; the route before);
 * ``numpy``: a plain Pinocchio + numpy Gauss–Newton on the same residual (frame Jacobian,
-  ``lstsq``, clipped to the limits; :class:`NumpyGaussNewton`), the pure-Python alternative;
-* ``drake_default`` / ``drake_tight``: Drake's InverseKinematics + SNOPT with its default
-  tolerances and with 1e-12 (one round of the peer script in Drake's interpreter, a
-  separate process, between rcm-pin's rounds).
+  ``lstsq``, clipped to the limits; :class:`NumpyGaussNewton`), the pure-Python alternative.
+
+Drake (InverseKinematics + SNOPT, in its own venv) on the same case is the harness's row:
+``PYTHONPATH=. python benchmarks/peers/run.py --venvs DIR --rows rcm_ik``.
 
 Prints one JSON document: µs per target (median over the rounds), the worst RCM distance
-and tip error over the circle (by forward kinematics on each side: Pinocchio here, Drake
-there), failures, and the ratios of rcm-pin's routes to Drake's, round by round (each
-pair measured within the same few seconds of load): their median and range.
+and tip error over the circle (Pinocchio forward kinematics), failures, and the ratios of
+the routes to ``lm``, round by round (each pair measured within the same seconds of load):
+their median and range.
 
-    python benchmarks/bench_rcm_ik.py [--rounds 5] [--drake-python PATH]
+    python benchmarks/bench_rcm_ik.py [--rounds 5]
 """
 
 from __future__ import annotations
 
 import argparse
-import importlib.util
 import json
-import os
-import subprocess
+import sys
+import tempfile
 import time
 from pathlib import Path
 from types import SimpleNamespace
@@ -38,31 +38,24 @@ import pinocchio as pin
 
 from ocp.rcm import RcmIK
 from rcm_pin.control.rcm_task import RcmTool
+from rcm_pin.studies.rcm_comparison import make_setup
 
-PEER = Path(__file__).parent / "peers" / "drake_rcm_ik.py"
-DRAKE_PYTHON = os.environ.get("DRAKE_PYTHON", "/work/venvs/drake/bin/python")
-
-
-def _peer() -> Any:
-    spec = importlib.util.spec_from_file_location("drake_rcm_ik", PEER)
-    assert spec is not None and spec.loader is not None
-    mod = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(mod)
-    return mod
+PEERS = Path(__file__).resolve().parent / "peers"
+ARM, N_TARGETS = "panda", 100
 
 
-def problem() -> tuple[pin.Model, RcmTool, np.ndarray, np.ndarray]:
-    """(model, tool, start q, targets) of the peer's problem, by Pinocchio FK."""
-    d = _peer()
-    model = pin.buildModelFromXML(d.kinematic_urdf(d.find_urdf()))
-    data, fid = model.createData(), model.getFrameId(d.HAND)
-    q0 = np.array(d.Q_START)
-    pin.framesForwardKinematics(model, data, q0)
-    M = data.oMf[fid]
-    a = M.rotation[:, 2]
-    trocar = M.translation + d.DEPTH * a
-    tool = RcmTool(fid, 2, fid, d.SHAFT, tuple(float(x) for x in trocar), d.HAND)
-    return model, tool, q0, d.circle(M.translation + d.SHAFT * a, a)
+def problem() -> tuple[pin.Model, RcmTool, np.ndarray, np.ndarray, dict[str, Any]]:
+    """(model, tool, start q, targets, case summary) of the harness's row ``rcm_ik``."""
+    sys.path.insert(0, str(PEERS))
+    from rows import rcm_ik_case
+
+    with tempfile.TemporaryDirectory(prefix="rcm-pin-rcm-ik-") as scratch:
+        case = rcm_ik_case(ARM, N_TARGETS)(Path(scratch))
+    s = make_setup(case["arm"])
+    assert s.chain is not None
+    spec = {k: case[k] for k in ("arm", "axis_frame", "axis", "tip_offset", "trocar")}
+    spec["n_targets"] = len(case["targets"])
+    return s.chain.model, s.chain.tool, np.asarray(case["q0"]), np.asarray(case["targets"]), spec
 
 
 def _skew(v: np.ndarray) -> np.ndarray:
@@ -70,14 +63,16 @@ def _skew(v: np.ndarray) -> np.ndarray:
 
 
 class NumpyGaussNewton:
-    """Gauss–Newton on [tip − target; (R e_x, R e_y)ᵀ (p_T − p_s)] with Pinocchio's
-    LOCAL_WORLD_ALIGNED hand Jacobian (d(R e)/dq = −[R e]× J_ω); ``solve`` mimics
-    :meth:`ocp.rcm.RcmIK.solve` (errors by the same FK)."""
+    """Gauss–Newton on [tip − target; (R e_i, R e_j)ᵀ (p_T − p_s)] (e_i, e_j the axes
+    orthogonal to the shaft) with Pinocchio's LOCAL_WORLD_ALIGNED Jacobian of the axis
+    frame (d(R e)/dq = −[R e]× J_ω); ``solve`` mimics :meth:`ocp.rcm.RcmIK.solve`
+    (errors by the same FK)."""
 
     def __init__(self, model: pin.Model, tool: RcmTool) -> None:
         self.ik = RcmIK(model, tool)  # its errors() only
         self.model, self.data, self.tool = model, model.createData(), tool
         self.trocar = np.asarray(tool.trocar)
+        self.across = [i for i in range(3) if i != tool.axis]
 
     def _rj(self, q: np.ndarray, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         m, d, f = self.model, self.data, self.tool.axis_frame
@@ -85,10 +80,10 @@ class NumpyGaussNewton:
         M = pin.updateFramePlacement(m, d, f)
         J = pin.getFrameJacobian(m, d, f, pin.LOCAL_WORLD_ALIGNED)
         R, ps, jv, jw = M.rotation, M.translation, J[:3], J[3:]
-        a, dt = R[:, 2], self.trocar - ps
+        a, dt = R[:, self.tool.axis], self.trocar - ps
         jtip = jv - self.tool.tip_offset * _skew(a) @ jw
-        rows = [(_skew(R[:, i]) @ dt) @ jw - R[:, i] @ jv for i in (0, 1)]
-        r = np.concatenate([ps + self.tool.tip_offset * a - p, [R[:, 0] @ dt, R[:, 1] @ dt]])
+        rows = [(_skew(R[:, i]) @ dt) @ jw - R[:, i] @ jv for i in self.across]
+        r = np.concatenate([ps + self.tool.tip_offset * a - p, [R[:, i] @ dt for i in self.across]])
         return r, np.vstack([jtip, *rows])
 
     def solve(self, p: np.ndarray, q: np.ndarray, **_: Any) -> Any:
@@ -117,14 +112,6 @@ def one_round(ik: Any, q0: np.ndarray, targets: np.ndarray) -> dict[str, Any]:
             "failures": sum(not r.ik.success for r in out)}  # fmt: skip
 
 
-def drake_round(python: str) -> dict[str, Any] | None:
-    """One round of the peer script in Drake's interpreter; None if it does not run."""
-    if not Path(python).exists():
-        return None
-    run = subprocess.run([python, str(PEER), "--rounds", "1"], capture_output=True, text=True)
-    return json.loads(run.stdout) if run.returncode == 0 else None
-
-
 def summary(rows: list[dict[str, Any]]) -> dict[str, Any]:
     return {
         "us_per_target": float(np.median([r["us"] for r in rows])),
@@ -142,35 +129,24 @@ def _ratio(values: list[float]) -> dict[str, float]:
 def main() -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rounds", type=int, default=5)
-    ap.add_argument("--drake-python", default=DRAKE_PYTHON)
     args = ap.parse_args()
-    model, tool, q0, targets = problem()
+    model, tool, q0, targets, spec = problem()
     routes: dict[str, Any] = {name: RcmIK(model, tool, solver=name) for name in ("lm", "ipopt")}
     routes["numpy"] = NumpyGaussNewton(model, tool)
     for ik in routes.values():  # build (and compile or load) outside the timing
-        ik.solve(targets[0], q0)
-    rows: dict[str, list[dict[str, Any]]] = {k: [] for k in (*routes, "drake_default",
-                                                              "drake_tight")}  # fmt: skip
-    peer: dict[str, Any] | None = None
+        ik.solve(targets[0], q0, raise_on_failure=False)
+    rows: dict[str, list[dict[str, Any]]] = {k: [] for k in routes}
     for _ in range(args.rounds):
         for name, ik in routes.items():
             rows[name].append(one_round(ik, q0, targets))
-        peer = drake_round(args.drake_python)
-        if peer is not None:
-            for key in ("default", "tight"):
-                p = peer[key]
-                row = {"us": p["us_per_target"], "rcm": p["rcm_max"], "tip": p["tip_max"]}
-                rows[f"drake_{key}"].append({**row, "failures": p["failures"]})
-    out: dict[str, Any] = {"problem": _peer().problem_spec(), "rounds": args.rounds}
-    out.update({k: summary(v) for k, v in rows.items() if v})
-    if peer is not None:
-        out["drake_solver"] = peer["solver"]
-        out["same_trocar"] = bool(np.allclose(peer["trocar"], tool.trocar, rtol=0, atol=1e-12))
-        out["ratios"] = {  # per round (the same minute of load), then the median and range
-            f"{k}/{d}": _ratio([a["us"] / b["us"] for a, b in zip(rows[k], rows[d])])
-            for k in routes
-            for d in ("drake_default", "drake_tight")
-        }
+    out: dict[str, Any] = {"problem": spec, "rounds": args.rounds}
+    out.update({k: summary(v) for k, v in rows.items()})
+    out["ratios"] = {  # per round (the same seconds of load), then the median and range
+        f"{k}/lm": _ratio([a["us"] / b["us"] for a, b in zip(rows[k], rows["lm"])])
+        for k in routes
+        if k != "lm"
+    }
+    out["drake"] = "PYTHONPATH=. python benchmarks/peers/run.py --venvs DIR --rows rcm_ik"
     print(json.dumps(out, indent=1))
 
 

@@ -1,6 +1,7 @@
-"""Row ``rcm_ik``, rcm-pin: :class:`ocp.RcmIK` (IPOPT, tol 1e-12, the RCM as an
-equality) of the case's arm at its trocar, the targets in turn, each solve from the
-previous solution (the first from the case's start configuration)."""
+"""Row ``rcm_ik``, rcm-pin: :class:`ocp.RcmIK` (its default: the RCM as an equality,
+solved by the compiled projected LM; tol 1e-12) of the case's arm at its trocar, the
+targets in turn, each solve from the previous solution (the first from the case's start
+configuration)."""
 
 from __future__ import annotations
 

@@ -1,8 +1,9 @@
-"""A worker module for a standalone peer script with ``run(rounds) -> dict`` (the form
-of ``crocoddyl_tracking.py`` and ``drake_rcm_ik.py``), so that a row can point at it:
+"""A worker module for a standalone peer script with ``run(rounds) -> dict`` (a script
+that times its own rounds and prints JSON; the rows' peers are worker modules now, e.g.
+``rcm_ik_drake_worker.py``), so that a row can point at it:
 
-    Contender("Crocoddyl FDDP", "script_adapter.py", "crocoddyl", True,
-              {"script": "crocoddyl_tracking.py", "rounds_per_call": 1})
+    Contender("My peer", "script_adapter.py", "drake", True,
+              {"script": "my_peer_script.py", "rounds_per_call": 1})
 
 ``setup`` imports ``case["script"]`` (a file of this folder, or a path); ``run_once``
 calls ``run(case["rounds_per_call"])`` (default 1) and returns the numbers and strings at
