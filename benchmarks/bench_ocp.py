@@ -4,6 +4,8 @@
     python benchmarks/bench_ocp.py --jit      # also JIT-compiled tracking (compiles ~1 min)
     python benchmarks/bench_ocp.py --only ik  # one part: twin | ik | closed | tracking
     python benchmarks/bench_ocp.py --only tracking --sizes 100 --json  # ratios as JSON
+    python benchmarks/bench_ocp.py --only tracking --sizes 100 --json --mechanism rcm_two_mass \
+        --configs vm_exact_screen default default_compiled --repeats 3
 
 Prints markdown tables: per-call times of the symbolic twin (CasADi VM vs JIT vs numeric
 Pinocchio), IK solve times (cold and warm, per solver) against the analytic IK, the IK of
@@ -17,7 +19,10 @@ with the exact or the cost-only Hessian, compiled + screening) and case (URDF li
 inactive; 0.8 x the exact solution's peak efforts on q1..q3 with the wrist locked,
 binding): build and cached rebuild times, median solve times of ``--repeats`` solves,
 iterations, the ratios to the unlimited solve of the same configuration and of the VM,
-and the solution's largest differences from the VM exact-Hessian solution.
+and the solution's largest differences from the VM exact-Hessian solution (the first
+configuration's). ``--mechanism`` (default rcm_bevel, the paper's; rcm_two_mass is the
+peers harness's, whose ``tracking_*`` rows time rcm-pin against Crocoddyl:
+``benchmarks/peers``), ``--configs`` a subset of the configurations.
 """
 
 from __future__ import annotations
@@ -232,18 +237,25 @@ def _limits(mech: rcm_pin.Mechanism, kind: str) -> np.ndarray | None:
     return None
 
 
-def tracking_json(n: int, repeats: int) -> dict[str, Any]:
-    """The ratios of the drive-limited to the unlimited tracking OCP at ``n`` intervals."""
-    out: dict[str, Any] = {"n_intervals": n, "repeats": repeats, "configs": {}}
+def tracking_json(
+    n: int, repeats: int, mechanism: str = paper.MECHANISM, configs: list[str] | None = None
+) -> dict[str, Any]:
+    """The ratios of the drive-limited to the unlimited tracking OCP at ``n`` intervals
+    (``configs``: keys of :data:`TRACKING_CONFIGS`, default all; the first is the reference
+    of ``vs_<first>`` and of ``ratio_vs_<first>_floor``)."""
+    names = list(TRACKING_CONFIGS) if configs is None else configs
+    out: dict[str, Any] = {"mechanism": mechanism, "n_intervals": n, "repeats": repeats}
+    out["configs"] = {}
     ref: dict[str, Any] = {}
-    for cname, (build_kw, solve_kw) in TRACKING_CONFIGS.items():
+    for cname in names:
+        build_kw, solve_kw = TRACKING_CONFIGS[cname]
         built: dict[str, Any] = {}
         for case, (limited, lock, kind) in TRACKING_CASES.items():
             timed = []
             for _ in range(2):  # first build (may compile), then the cached rebuild
                 start = time.perf_counter()
                 ocp, mech = paper.build(
-                    n_intervals=n, drive_limits=limited, lock_wrist=lock, **build_kw
+                    mechanism, n, drive_limits=limited, lock_wrist=lock, **build_kw
                 )
                 timed.append(time.perf_counter() - start)
             built[case] = (ocp, mech, _limits(mech, kind), timed)
@@ -267,7 +279,7 @@ def tracking_json(n: int, repeats: int) -> dict[str, Any]:
                 "objective": res.objective,
             }
             base = ref.setdefault(case, res)
-            row["vs_vm_exact"] = {
+            row[f"vs_{names[0]}"] = {
                 "q_max_diff": float(np.abs(res.q_colloc - base.q_colloc).max()),
                 "tau_max_diff": float(np.abs(res.tau - base.tau).max()),
                 "objective_diff": abs(res.objective - base.objective),
@@ -277,10 +289,11 @@ def tracking_json(n: int, repeats: int) -> dict[str, Any]:
             rows[case]["floor"] = f"{floor} ({cname})"
             rows[case]["ratio"] = rows[case]["solve_ms"] / rows[floor]["solve_ms"]
         out["configs"][cname] = rows
-    vm = out["configs"]["vm_exact"]
+    first = out["configs"][names[0]]
     for rows in out["configs"].values():
         for case, floor in FLOORS.items():
-            rows[case]["ratio_vs_vm_floor"] = rows[case]["solve_ms"] / vm[floor]["solve_ms"]
+            ratio = rows[case]["solve_ms"] / first[floor]["solve_ms"]
+            rows[case][f"ratio_vs_{names[0]}_floor"] = ratio
     return out
 
 
@@ -292,11 +305,14 @@ def main() -> None:
     parser.add_argument("--sizes", type=int, nargs="+", default=[50, 100, 200])
     parser.add_argument("--json", action="store_true", help="tracking ratios as JSON")
     parser.add_argument("--repeats", type=int, default=5, help="solves per case (--json)")
+    parser.add_argument("--mechanism", default=paper.MECHANISM, help="tracking (--json)")
+    parser.add_argument("--configs", nargs="+", choices=list(TRACKING_CONFIGS),
+                        help="tracking configurations (--json; default all)")  # fmt: skip
     args = parser.parse_args()
     if args.json:
         if args.only not in (None, "tracking"):
             parser.error("--json applies to the tracking part (--only tracking)")
-        runs = [tracking_json(n, args.repeats) for n in args.sizes]
+        runs = [tracking_json(n, args.repeats, args.mechanism, args.configs) for n in args.sizes]
         print(json.dumps(runs[0] if len(runs) == 1 else runs, indent=2))
         return
     if args.only in (None, "twin"):
