@@ -1,6 +1,7 @@
 """Row ``closed_sim``, rcm-pin: the 3-RRR ``circle`` tracking scenario
 (``rcm_pin.control.scenario``: paper 004's law, constrained KKT dynamics, DOP853) for the
-case's simulated time; accuracy: closure drift and task error of the run."""
+case's simulated time, by the case's ``backend`` (``"python"``, the default, or
+``"compiled"``: the ``closed_rhs`` kernel); accuracy: closure drift and task error of the run."""
 
 from __future__ import annotations
 
@@ -16,11 +17,11 @@ from rcm_pin.control.scenario import run, scenarios
 def setup(case: dict[str, Any]) -> dict[str, Any]:
     mech = rcm_pin.load(case["mechanism"])
     sc = dataclasses.replace(scenarios(mech)[case["scenario"]], duration=case["duration"])
-    return {"mech": mech, "scenario": sc}
+    return {"mech": mech, "scenario": sc, "backend": case.get("backend", "python")}
 
 
 def run_once(state: dict[str, Any]) -> Any:
-    return run(state["mech"], state["scenario"])
+    return run(state["mech"], state["scenario"], backend=state["backend"])
 
 
 def accuracy(state: dict[str, Any], r: Any) -> dict[str, Any]:

@@ -212,7 +212,9 @@ ROWS: list[Row] = [
          Contender("the scalar analytic IK (floor)", "inverse_analytic.py", peer=True)),
         {"mechanism": "rcm_bevel", "poses": 200, "seed": 0}, per=200, unit="µs"),
     Row("closed_sim", "closed-plant simulate (3-RRR circle) per simulated second",
-        (Contender("rcm-pin simulate", "closed_sim_rcm.py"),
+        (Contender("rcm-pin simulate (python)", "closed_sim_rcm.py", case={"backend": "python"}),
+         Contender("rcm-pin simulate (compiled)", "closed_sim_rcm.py",
+                   case={"backend": "compiled"}),
          Contender("its Pinocchio floor", "closed_sim_pinocchio.py", peer=True)),
         {"mechanism": "planar_3rrr", "scenario": "circle", "duration": 0.5}, per=0.5),
 ]  # fmt: skip
