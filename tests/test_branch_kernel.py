@@ -21,8 +21,13 @@ from ocp.kernels import branches_function, provider
 from ocp.kernels.branches_kernel import SerialBranchesKernel
 from ocp.kernels.closure_kernel import SharedFunction
 from rcm_pin.analysis.pose_target import plain_pose
-from rcm_pin.analysis.results import PositionSolution, closed_form_solutions
-from rcm_pin.errors import RcmPinError, SingularConfigurationError
+from rcm_pin.analysis.results import (
+    PositionResult,
+    PositionSolution,
+    closed_form_solutions,
+    inverse_result,
+)
+from rcm_pin.errors import InvalidInputError, RcmPinError, SingularConfigurationError
 from rcm_pin.model import kernels, serial_branches
 
 #: Forward kinematics by CasADi vs Pinocchio: the same numbers to rounding (seen: 5e-15).
@@ -157,6 +162,17 @@ def test_position_only_and_other_options_take_the_numpy_route(monkeypatch):
     monkeypatch.setitem(serial_branches._cache, mech, refuse)
     rcm_pin.inverse(mech, T[:3, 3], ("x", "y", "z"))
     rcm_pin.inverse(mech, T, starts=4)
+    with pytest.raises(InvalidInputError, match="starts 0"):
+        rcm_pin.inverse(mech, T, starts=0)
+
+
+def test_a_value_target_takes_the_kernel_route_too():
+    """A target given as the value vector (x, y, z, R), read by ``Output.coerce``."""
+    mech = rcm_pin.load("rcm_belt")
+    T = rcm_pin.tool_pose(mech, mech.configurations["regular"])
+    value = np.concatenate([T[:3, 3], T[:3, :3].ravel()]).tolist()
+    assert serial_branches.warm(mech)(np.asarray(value)) is not None
+    assert_same(*_routes(mech, value))
 
 
 def test_disable_switch_and_environment_variable():
@@ -196,6 +212,11 @@ def test_closed_form_solutions_equal_the_constructors():
     assert fast == slow and hash(fast.mode) == hash(slow.mode)
     with pytest.raises(AttributeError):
         fast.mode = "other"  # type: ignore[misc]
+    mech = rcm_pin.load("rcm_bevel")
+    args = (v, mech.output, (fast,), "closed form")
+    made, built = inverse_result(mech, *args), PositionResult(mech, "inverse", *args)
+    assert type(made) is PositionResult and list(vars(made)) == list(vars(built))
+    assert made == built and made.count == 1
 
 
 @pytest.mark.parametrize("q1", [0.0, -0.0, np.pi])

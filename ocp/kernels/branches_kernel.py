@@ -26,6 +26,8 @@ COMPILE_AFTER = 200
 LABELS = tuple(f"branch_{b}" for b in range(8))
 #: 1.0 -> True, 0.0 -> False (the function's limit flags as bools).
 _ONE = (1.0).__eq__
+#: A NamedTuple from its fields without its keyword-parsing ``__new__``.
+_new = tuple.__new__
 
 
 class SerialBranchesKernel:
@@ -57,14 +59,9 @@ class SerialBranchesKernel:
         info = a[144:].tolist()
         if info[16]:
             return None
-        return BranchArrays(
-            a[:48].reshape(8, self.n),
-            a[48:144].reshape(8, 12),
-            info[:8],
-            list(map(_ONE, info[8:16])),
-            LABELS,
-            SERIAL_CLOSED_FORM,
-        )
+        q, out = a[:48].reshape(8, self.n), a[48:144].reshape(8, 12)
+        flags = list(map(_ONE, info[8:16]))
+        return _new(BranchArrays, (q, out, info[:8], flags, LABELS, SERIAL_CLOSED_FORM))
 
 
 __all__ = ["COMPILE_AFTER", "LABELS", "SerialBranchesKernel"]

@@ -31,13 +31,14 @@ from rcm_pin.analysis.results import (
     PositionSolution,
     closed_form_solutions,
     frame_placement,
+    inverse_result,
 )
 from rcm_pin.analysis.serial_ik import check_starts
 from rcm_pin.errors import InvalidInputError, SolverError, UnreachablePoseError
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import Output
 from rcm_pin.model.output_choice import require_output
-from rcm_pin.model.serial_branches import BranchArrays, serial_branches
+from rcm_pin.model.serial_branches import serial_branches
 from rcm_pin.rotations import numeric_array, pose_from_matrix, short_repr
 
 #: A closed-loop solve is accepted below this closure residual [m].
@@ -139,7 +140,9 @@ def inverse(
     value = plain_pose(output, target)
     if value is None:
         value = output.coerce(_as_value(output, target))
-    fast = None if coords is not None or starts is not None else _kernel_route(mech, value)
+    plain = coords is None and starts is None and mech.loops is None
+    kernel = serial_branches(mech) if plain else None
+    fast = None if kernel is None else kernel(value)  # None: the kernel declines
     if fast is not None:  # every branch checked in one compiled call (the same results)
         sols = closed_form_solutions(
             fast.q, fast.output, fast.labels, fast.residual, fast.within_limits
@@ -163,16 +166,7 @@ def inverse(
                 "valid: a target with a solution inside the limits"
             )
         sols = inside
-    return PositionResult(mech, "inverse", value, output, tuple(sols), method)
-
-
-def _kernel_route(mech: Mechanism, value: np.ndarray) -> BranchArrays | None:
-    """The serial branch kernel's answer (:mod:`rcm_pin.model.serial_branches`), or None
-    (no kernel, or it declines: the numpy route then runs from the same inputs)."""
-    if mech.loops is not None:
-        return None
-    kernel = serial_branches(mech)
-    return None if kernel is None else kernel(value)
+    return inverse_result(mech, value, output, tuple(sols), method)
 
 
 def _solutions(

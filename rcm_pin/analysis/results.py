@@ -112,9 +112,27 @@ def closed_form_solutions(
     new, out = object.__new__, []
     for q, v, mode, res, ok in zip(qs, outputs, modes, residuals, inside):
         s = new(PositionSolution)
-        s.__dict__.update(q=q, output=v, mode=mode, residual=res, iterations=0, within_limits=ok)
+        d = s.__dict__  # (item stores: cheaper than one update call with keywords)
+        d["q"], d["output"], d["mode"], d["residual"] = q, v, mode, res
+        d["iterations"], d["within_limits"] = 0, ok
         out.append(s)
     return out
+
+
+def inverse_result(
+    mech: Mechanism,
+    given: np.ndarray,
+    output: Output,
+    solutions: tuple[PositionSolution, ...],
+    method: str,
+) -> PositionResult:
+    """The :class:`PositionResult` of an inverse problem, built as
+    :func:`closed_form_solutions` builds its solutions (equal to the constructor's)."""
+    r = object.__new__(PositionResult)
+    d = r.__dict__
+    d["mechanism"], d["kind"], d["given"] = mech, "inverse", given
+    d["output"], d["solutions"], d["method"] = output, solutions, method
+    return r
 
 
 def frame_placement(mech: Mechanism, q: np.ndarray) -> np.ndarray:
@@ -123,4 +141,10 @@ def frame_placement(mech: Mechanism, q: np.ndarray) -> np.ndarray:
     return pin.updateFramePlacement(mech.model, mech.data, mech.output.frame_id).homogeneous
 
 
-__all__ = ["PositionResult", "PositionSolution", "closed_form_solutions", "frame_placement"]
+__all__ = [
+    "PositionResult",
+    "PositionSolution",
+    "closed_form_solutions",
+    "frame_placement",
+    "inverse_result",
+]
