@@ -227,3 +227,16 @@ def test_signed_zeros_take_the_scalar_routes_branch(q1):
     T = rcm_pin.tool_pose(mech, q)
     assert serial_branches.warm(mech)(plain_pose(mech.output, T)) is not None
     assert_same(*_routes(mech, T))
+
+
+def test_threads_give_the_same_results():
+    """Per-thread buffers: concurrent calls do not overwrite each other's results."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    mech = rcm_pin.load("rcm_bevel")
+    poses = [rcm_pin.tool_pose(mech, q) for q in random_q(mech, 40, np.random.default_rng(5))]
+    alone = [rcm_pin.inverse(mech, T) for T in poses]
+    with ThreadPoolExecutor(4) as pool:
+        together = list(pool.map(lambda T: rcm_pin.inverse(mech, T), poses * 3))
+    for a, b in zip(alone * 3, together, strict=True):
+        assert_same(b, a)

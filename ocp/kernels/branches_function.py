@@ -18,12 +18,11 @@ to rounding and the decisions are the same):
    [p − p_t; log₃(R R_tᵀ)] (:func:`ocp.closure.log3`), the residual max |e| and the limit
    flag lower − 1e-12 ≤ q ≤ upper + 1e-12.
 
-One output ``branches`` (161,) (one copy for the caller) = (q (48,) the fitted branches
-row by row, their values (96,) row by row, residuals (8), limit flags (8), b): b > 0
-where the numpy route leaves this path (the scalar IK declines: R off its SO(3) screen,
-|p| ≤ POS_TOL, ρ ≤ SING_TOL·|p|, the near-aligned wrist band h < 1e-3; or a branch misses
-the target by more than ``BRANCH_TOL``, NaN included), and the caller then runs that
-route.
+Outputs: ``q`` (48,) the fitted branches row by row, ``output`` (96,) their values row by
+row, ``info`` (17,) = (residuals (8), limit flags (8), b): b > 0 where the numpy route
+leaves this path (the scalar IK declines: R off its SO(3) screen, |p| ≤ POS_TOL,
+ρ ≤ SING_TOL·|p|, the near-aligned wrist band h < 1e-3; or a branch misses the target by
+more than ``BRANCH_TOL``, NaN included), and the caller then runs that route.
 """
 
 from __future__ import annotations
@@ -46,7 +45,7 @@ from rcm_pin.model.mechanism import Mechanism
 PI = np.pi
 #: Bump when the function's math changes (part of the structure key, with a digest of
 #: the sources that write it: :func:`_sources`).
-VERSION = "3"
+VERSION = "4"
 
 
 def _variants(a: Any) -> list[Any]:
@@ -175,9 +174,9 @@ def build(mech: Mechanism, name: str) -> ca.Function:
     return ca.Function(
         name,
         [value, limits],
-        [ca.vertcat(*qs, *outs, *res, *inside, bad)],
+        [ca.vertcat(*qs), ca.vertcat(*outs), ca.vertcat(*res, *inside, bad)],
         ["value", "limits"],
-        ["branches"],
+        ["q", "output", "info"],
         {"cse": True},
     )
 

@@ -16,7 +16,7 @@ import numpy as np
 
 from ocp.buffered import BufferedFunction
 from ocp.kernels.closure_kernel import SharedFunction
-from rcm_pin.analysis.capabilities import SERIAL_CLOSED_FORM
+from rcm_pin.analysis.capabilities import SERIAL_CLOSED_FORM as METHOD
 from rcm_pin.model.serial_branches import BranchArrays
 
 #: Calls in the VM before the function is compiled (about 20 µs a call saved against a
@@ -38,7 +38,8 @@ class SerialBranchesKernel:
         self.limits = np.concatenate([lower, upper]).astype(float)
         self._local = threading.local()
 
-    def _buffers(self) -> BufferedFunction:
+    def _buffers(self) -> tuple[BufferedFunction, np.ndarray, np.ndarray, np.ndarray]:
+        """This thread's buffers: the function's, and (8, n) / (8, 12) views of q, output."""
         shared = self.shared
         if shared.compile_after is not None:
             shared.count()
@@ -46,22 +47,22 @@ class SerialBranchesKernel:
         if getattr(local, "source", None) is not fun:  # first call here, or just compiled
             buf = BufferedFunction(fun)
             buf.inputs[1][:] = self.limits
-            local.buf, local.source = buf, fun
-        out: BufferedFunction = local.buf
-        return out
+            q, out, info = buf.outputs
+            local.bound = buf, q.reshape(8, self.n), out.reshape(8, 12), info
+            local.source = fun
+        bound: tuple[BufferedFunction, np.ndarray, np.ndarray, np.ndarray] = local.bound
+        return bound
 
     def __call__(self, value: np.ndarray) -> BranchArrays | None:
         """The eight checked branches of a pose value (12,), or None (the numpy route)."""
-        buf = self._buffers()
+        buf, q, out, info = self._buffers()
         buf.inputs[0][:] = value
         buf.evaluate()
-        a = buf.outputs[0].copy()  # (q, values, residuals, flags, b): views of one copy
-        info = a[144:].tolist()
-        if info[16]:
+        flags = info.tolist()
+        if flags[16]:
             return None
-        q, out = a[:48].reshape(8, self.n), a[48:144].reshape(8, 12)
-        flags = list(map(_ONE, info[8:16]))
-        return _new(BranchArrays, (q, out, info[:8], flags, LABELS, SERIAL_CLOSED_FORM))
+        inside = list(map(_ONE, flags[8:16]))
+        return _new(BranchArrays, (q.copy(), out.copy(), flags[:8], inside, LABELS, METHOD))
 
 
 __all__ = ["COMPILE_AFTER", "LABELS", "SerialBranchesKernel"]
