@@ -240,3 +240,17 @@ def test_threads_give_the_same_results():
         together = list(pool.map(lambda T: rcm_pin.inverse(mech, T), poses * 3))
     for a, b in zip(alone * 3, together, strict=True):
         assert_same(b, a)
+
+
+def test_the_function_compiles_after_its_calls():
+    mech = rcm_pin.load("rcm_belt")
+    key = serial_branches.warm(mech).shared.key
+    fresh = SharedFunction(branches_function.build(mech, f"rcm_branches_{key[-12:]}"), key, 3)
+    kernel = SerialBranchesKernel(fresh, mech.lower, mech.upper)
+    value = plain_pose(mech.output, rcm_pin.tool_pose(mech, mech.configurations["regular"]))
+    first = kernel(value)
+    for calls in range(2, 5):
+        again = kernel(value)
+        assert fresh.compiled == (calls >= 3)
+        for x, y in zip(first, again, strict=True):
+            np.testing.assert_array_equal(x, y)

@@ -15,13 +15,16 @@ import threading
 import numpy as np
 
 from ocp.buffered import BufferedFunction
+from ocp.kernels.closure_kernel import COMPILE_AFTER as CLOSURE_COMPILE_AFTER
 from ocp.kernels.closure_kernel import SharedFunction
 from rcm_pin.analysis.capabilities import SERIAL_CLOSED_FORM as METHOD
 from rcm_pin.model.serial_branches import BranchArrays
 
-#: Calls in the VM before the function is compiled (about 20 µs a call saved against a
-#: compilation of ~0.5 s once per machine, then a load from the disk cache).
-COMPILE_AFTER = 200
+#: Calls in the VM before the function is compiled: the closure Newton's
+#: (:data:`ocp.kernels.closure_kernel.COMPILE_AFTER`). The VM costs ~6 µs a call more
+#: (7.6 against 1.5 µs), the compilation ~0.5 s once per machine (the disk cache): only a
+#: sweep repays it, a one-shot solve never waits for a compiler.
+COMPILE_AFTER = CLOSURE_COMPILE_AFTER
 #: The branch labels of the family's position solver (``RcmPosition``), in order.
 LABELS = tuple(f"branch_{b}" for b in range(8))
 #: 1.0 -> True, 0.0 -> False (the function's limit flags as bools).
