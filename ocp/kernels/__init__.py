@@ -22,7 +22,7 @@ Registered as the entry point ``casadi = "ocp.kernels:provider"`` of the group
   (:mod:`ocp.kernels.closed_rhs`), or None for a pair it does not mirror
   (:func:`rcm_pin.control.closed_backend.closed_unsupported`, closure rows of less than
   full rank).
-* ``serial_branches(mech)``: every checked branch of a six-DOF RCM pose in one call
+* ``serial_branches(mech)``: every checked branch of a six- or four-DOF RCM pose in one call
   (:mod:`ocp.kernels.branches_function`, :mod:`ocp.kernels.branches_kernel`), or None
   for a mechanism it does not mirror.
 """
@@ -145,7 +145,7 @@ class CasadiKernels:
         return closed_rhs(plant, controller, vm=_vm_only())
 
     def serial_branches(self, mech: Mechanism) -> SerialBranchesKernel | None:
-        """Every checked branch of a six-DOF RCM pose in one call, or None for a mechanism
+        """Every checked branch of a six- or four-DOF RCM pose in one call, or None for a mechanism
         it does not mirror (:mod:`ocp.kernels.branches_function`; imported on the first
         request). One function per kinematic structure, VM first, compiled after
         :data:`~ocp.kernels.branches_kernel.COMPILE_AFTER` calls."""

@@ -1,4 +1,4 @@
-"""Every checked branch of a six-DOF RCM pose as one ``casadi.Function``.
+"""Every checked branch of a six- or four-DOF RCM pose as one ``casadi.Function``.
 
 ``rcm_branches(value, limits) -> (q, output, info)`` mirrors, for a pose value ``value``
 (12,) = (x, y, z, R row by row) and ``limits`` (12,) = (lower, upper), the numpy route of
@@ -8,7 +8,9 @@ to rounding and the decisions are the same):
 1. the eight analytic branches of :func:`rcm_pin.mechanisms.rcm.ik_scalar.ik_pose_one`
    (the same formulas in the same order, so the same bits: the angle variants a, −a,
    a + π, π − a by ``if_else``; the branch table
-   :data:`rcm_pin.mechanisms.rcm.ik_tables._TABLE6`; its SO(3) screen);
+   :data:`rcm_pin.mechanisms.rcm.ik_tables._TABLE6`; its SO(3) screen); four-DOF: the two
+   branches of the vectorised ``ik_pose_4dof`` (:func:`_principal4`; numpy's ``arctan2``
+   ufunc may round an ulp away from the C library's, so q agree to 1e-12 there);
 2. :meth:`~rcm_pin.mechanisms.rcm.ik_solutions.IKSolutions.fit_limits`: each angle as q,
    q + 2π or q − 2π where strictly closer to the box (the violation
    |x − min(max(x, lower), upper)|, tie to the earlier);
@@ -18,11 +20,13 @@ to rounding and the decisions are the same):
    [p − p_t; log₃(R R_tᵀ)] (:func:`ocp.closure.log3`), the residual max |e| and the limit
    flag lower − 1e-12 ≤ q ≤ upper + 1e-12.
 
-Outputs: ``q`` (48,) the fitted branches row by row, ``output`` (96,) their values row by
-row, ``info`` (17,) = (residuals (8), limit flags (8), b): b > 0 where the numpy route
+Outputs (B = 8 branches, 2 four-DOF): ``q`` (B·n,) the fitted branches row by row,
+``output`` (12 B,) their values row by row, ``info`` (2 B + 1,) = (residuals, limit
+flags, b): b > 0 where the numpy route
 leaves this path (the scalar IK declines: R off its SO(3) screen, |p| ≤ POS_TOL,
-ρ ≤ SING_TOL·|p|, the near-aligned wrist band h < 1e-3; or a branch misses the target by
-more than ``BRANCH_TOL``, NaN included), and the caller then runs that route.
+ρ ≤ SING_TOL·|p|, the near-aligned wrist band h < 1e-3; four-DOF: p off the tool z axis,
+ρ ≤ SING_TOL; or a branch misses the target by more than ``BRANCH_TOL``, NaN included),
+and the caller then runs that route.
 """
 
 from __future__ import annotations
@@ -39,13 +43,21 @@ from ocp.joints import frame_specs, joint_specs
 from ocp.kernels.serial_rhs import _to_pin
 from ocp.symbolic import SymbolicModel
 from rcm_pin.analysis.branch_check import BRANCH_TOL, LIMIT_TOL
-from rcm_pin.mechanisms.rcm.ik_tables import _NEAR, _SCREEN, _TABLE6, POS_TOL, SING_TOL
+from rcm_pin.mechanisms.rcm.ik_tables import (
+    _NEAR,
+    _SCREEN,
+    _TABLE4,
+    _TABLE6,
+    AXIS_TOL,
+    POS_TOL,
+    SING_TOL,
+)
 from rcm_pin.model.mechanism import Mechanism
 
 PI = np.pi
 #: Bump when the function's math changes (part of the structure key, with a digest of
 #: the sources that write it: :func:`_sources`).
-VERSION = "4"
+VERSION = "5"
 
 
 def _variants(a: Any) -> list[Any]:
@@ -96,6 +108,26 @@ def _principal(c: list[Any], wrist: str) -> tuple[list[Any], Any]:
     return values, ca.logic_or(bad, _off_screen(c))
 
 
+def _principal4(c: list[Any]) -> tuple[list[Any], Any]:
+    """The 4-DOF twin of :func:`_principal`: the block of
+    :func:`rcm_pin.mechanisms.rcm.analytic_ik.ik_pose_4dof` (its operations in its order;
+    −ey, not 0 − ey, as there), declining where it raises or projects (p off the tool z
+    axis by more than AXIS_TOL, ρ ≤ SING_TOL, R off the screen)."""
+    ex, ey, ez = c[2], c[6], c[10]
+    rho = _kept(ca.sqrt(ey * ey + ez * ez))
+    a1, a2 = ca.atan2(-ey, ez), ca.atan2(ex, rho)
+    q3 = c[3] * ex + c[7] * ey + c[11] * ez
+    dx, dy, dz = c[3] - q3 * ex, c[7] - q3 * ey, c[11] - q3 * ez
+    off = ca.sqrt(dx * dx + dy * dy + dz * dz)
+    c1, s1 = ez / rho, -ey / rho
+    w00 = rho * c[0] + s1 * ex * c[4] - c1 * ex * c[8]
+    w10 = c1 * c[4] + s1 * c[8]
+    a4 = ca.atan2(w10, w00)
+    values = [*_variants(a1), *_variants(a2), q3, q3, q3, q3, *_variants(a4)]
+    bad = ca.logic_or(ca.logic_or(off > AXIS_TOL, rho <= SING_TOL), _off_screen(c))
+    return values, bad
+
+
 def _off_screen(c: list[Any]) -> Any:
     """Whether :func:`.ik_scalar._screen` sends R to the SVD projection (first-order
     distance from SO(3) above 1e-12, or det R ≤ 0): the scalar IK declines there."""
@@ -126,8 +158,8 @@ def _fit(q: list[Any], lo: Any, up: Any) -> list[Any]:
 
 
 def supported(mech: Mechanism) -> bool:
-    """A serial six-DOF mechanism of the rcm family with a pose output (x, y, z, rotation),
-    on the family's own position solver (a subclass may answer otherwise)."""
+    """A serial six- or four-DOF mechanism of the rcm family with a pose output (x, y, z,
+    rotation), on the family's own position solver (a subclass may answer otherwise)."""
     from rcm_pin.analysis.capabilities import position_solver
     from rcm_pin.errors import UnknownMechanismError
     from rcm_pin.mechanisms.rcm import RcmPosition
@@ -139,7 +171,7 @@ def supported(mech: Mechanism) -> bool:
         return False
     return bool(
         mech.loops is None
-        and mech.nq == 6
+        and mech.nq in (4, 6)
         and type(position_solver(mech)) is RcmPosition
         and mech.output.coords == ("x", "y", "z", "rotation")
     )
@@ -150,17 +182,17 @@ def build(mech: Mechanism, name: str) -> ca.Function:
     from rcm_pin.mechanisms.rcm.closed_form import wrist_type
 
     wrist = wrist_type(mech)
-    assert wrist is not None and supported(mech)
+    assert supported(mech)
     n = mech.nq
     value, limits = ca.SX.sym("value", 12), ca.SX.sym("limits", 2 * n)
     lo, up = limits[:n], limits[n:]
     p_t, r_t = value[:3], ca.reshape(value[3:], 3, 3).T  # R_t row by row
     c = [value[3 + 3 * (i // 4) + i % 4] if i % 4 < 3 else value[i // 4] for i in range(12)]
-    variants, bad = _principal(c, wrist)
+    variants, bad = _principal4(c) if wrist is None else _principal(c, wrist)
     sm = SymbolicModel(mech.model)
     fk = sm.frame_placement(mech.output.frame_id)
     qs, outs, res, inside = [], [], [], []
-    for branch in _TABLE6[wrist]:
+    for branch in _TABLE4 if wrist is None else _TABLE6[wrist]:
         q = _fit([variants[4 * i + int(v)] for i, v in enumerate(branch)], lo, up)
         p, rot = fk(_to_pin(mech, ca.vertcat(*q), ca.SX.zeros(n))[0])
         e = ca.vertcat(p - p_t, log3(ca.mtimes(rot, r_t.T)))
@@ -200,7 +232,7 @@ def structure_key(mech: Mechanism) -> str:
             h.update(np.ascontiguousarray(arr, dtype=float).tobytes())
     for idx in (mech.q_index, mech.continuous):
         h.update(np.asarray(idx, dtype=np.int64).tobytes() + b"|")
-    tols = (POS_TOL, SING_TOL, _NEAR, _SCREEN, LIMIT_TOL, BRANCH_TOL)
+    tols = (POS_TOL, SING_TOL, AXIS_TOL, _NEAR, _SCREEN, LIMIT_TOL, BRANCH_TOL)
     h.update(f"{mech.output.frame_id}|{wrist_type(mech)}|{tols!r}|v={VERSION}".encode())
     h.update(_sources().encode())
     return h.hexdigest()

@@ -1,7 +1,7 @@
 """The ``serial_branches`` kernel of one Mechanism: :mod:`.branches_function` on buffers.
 
 :class:`SerialBranchesKernel` implements :class:`rcm_pin.model.serial_branches.SerialBranches`
-for the six-DOF RCM mechanisms: one call of the structure's function
+for the six- and four-DOF RCM mechanisms: one call of the structure's function
 (:class:`~ocp.kernels.closure_kernel.SharedFunction`: CasADi's VM first, compiled to C
 after :data:`COMPILE_AFTER` calls, the same bits) on per-thread bound buffers, the
 Mechanism's joint limits written once per buffer; None where the function flags a case
@@ -34,10 +34,12 @@ _new = tuple.__new__
 
 
 class SerialBranchesKernel:
-    """Every checked branch of one six-DOF RCM Mechanism (module docstring)."""
+    """Every checked branch of one six- or four-DOF RCM Mechanism (module docstring)."""
 
     def __init__(self, shared: SharedFunction, lower: np.ndarray, upper: np.ndarray) -> None:
         self.shared, self.n = shared, len(lower)
+        self.nb = nb = 8 if self.n == 6 else 2  # branches (six-DOF, four-DOF)
+        self.labels, self._flags = LABELS[:nb], slice(nb, 2 * nb)
         self.limits = np.concatenate([lower, upper]).astype(float)
         self._local = threading.local()
 
@@ -51,21 +53,22 @@ class SerialBranchesKernel:
             buf = BufferedFunction(fun)
             buf.inputs[1][:] = self.limits
             q, out, info = buf.outputs
-            local.bound = buf, q.reshape(8, self.n), out.reshape(8, 12), info
+            local.bound = buf, q.reshape(self.nb, self.n), out.reshape(self.nb, 12), info
             local.source = fun
         bound: tuple[BufferedFunction, np.ndarray, np.ndarray, np.ndarray] = local.bound
         return bound
 
     def __call__(self, value: np.ndarray) -> BranchArrays | None:
-        """The eight checked branches of a pose value (12,), or None (the numpy route)."""
+        """The checked branches (eight; four-DOF two) of a pose value (12,), or None (the
+        numpy route)."""
         buf, q, out, info = self._buffers()
         buf.inputs[0][:] = value
         buf.evaluate()
         flags = info.tolist()
-        if flags[16]:
+        if flags[-1]:
             return None
-        inside = list(map(_ONE, flags[8:16]))
-        return _new(BranchArrays, (q.copy(), out.copy(), flags[:8], inside, LABELS, METHOD))
+        nb, inside = self.nb, list(map(_ONE, flags[self._flags]))
+        return _new(BranchArrays, (q.copy(), out.copy(), flags[:nb], inside, self.labels, METHOD))
 
 
 __all__ = ["COMPILE_AFTER", "LABELS", "SerialBranchesKernel"]
