@@ -100,7 +100,7 @@ def _inverse_floor(mech: rcm_pin.Mechanism) -> tuple[str, Callable[[Any], Any]]:
     return what, candidates
 
 
-def _compile_now(kernel: object) -> None:
+def compile_now(kernel: object) -> None:
     """Compile a kernel's function now (benchmarks measure the compiled state)."""
     shared = getattr(kernel, "shared", None)
     if shared is not None and shared.compile_after is not None:
@@ -125,12 +125,12 @@ def bench_mechanism(name: str, n: int, repeat: int, seed: int) -> dict[str, obje
             return pin.updateFramePlacement(model, data, fid)
 
         targets = [rcm_pin.tool_pose(mech, q) for q in qs]
-        _compile_now(serial_branches.warm(mech))
+        compile_now(serial_branches.warm(mech))
         fwd = {"forward": lambda q: rcm_pin.forward(mech, q), "floor": fk}
         fwd_args, floor_fwd = qs, "Pinocchio forward kinematics of the output frame"
     else:
         cases = _closed_cases(mech, n, seed)
-        _compile_now(kernels.warm(mech))
+        compile_now(kernels.warm(mech))
         fwd = {"forward": lambda c: rcm_pin.forward(mech, c[0], q_guess=c[1]),
                "floor": lambda c: cp.solve_drives(mech, c[0], c[1])}  # fmt: skip
         fwd_args, floor_fwd = cases, "solve_drives from the guess (closure kernel)"
@@ -156,4 +156,4 @@ def bench_families(n: int, repeat: int, seed: int) -> list[dict[str, object]]:
     return [bench_mechanism(name, n, repeat, seed) for name in rcm_pin.names()]
 
 
-__all__ = ["bench_families", "bench_mechanism", "timed"]
+__all__ = ["bench_families", "bench_mechanism", "compile_now", "timed"]
