@@ -27,7 +27,12 @@ from rcm_pin.analysis.results import (
     closed_form_solutions,
     inverse_result,
 )
-from rcm_pin.errors import InvalidInputError, RcmPinError, SingularConfigurationError
+from rcm_pin.errors import (
+    InvalidInputError,
+    RcmPinError,
+    SingularConfigurationError,
+    UnreachablePoseError,
+)
 from rcm_pin.model import kernels, serial_branches
 
 #: Forward kinematics by CasADi vs Pinocchio: the same numbers to rounding (seen: 5e-15).
@@ -286,3 +291,13 @@ def test_the_function_compiles_after_its_calls():
         assert fresh.compiled == (calls >= 3)
         for x, y in zip(first, again, strict=True):
             np.testing.assert_array_equal(x, y)
+
+
+def test_no_branch_inside_the_limits_gives_the_same_error():
+    mech = rcm_pin.load("rcm_bevel")
+    T = rcm_pin.tool_pose(mech, np.array([0.1, 0.2, 0.2, 0.3, 0.4, 0.5]))  # q3 > 0.12 m
+    assert serial_branches.warm(mech)(plain_pose(mech.output, T)) is not None
+    fast, slow = _routes(mech, T, limits=True)
+    assert isinstance(slow, UnreachablePoseError) and "within the joint limits" in str(slow)
+    assert_same(fast, slow)
+    assert_same(*_routes(mech, T))  # without ``limits``: every branch, flagged
