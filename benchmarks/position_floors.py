@@ -7,7 +7,10 @@ over every timed call of ``repeat`` interleaved passes over the same targets) of
   its floor, the candidates alone: the scalar analytic IK (``ik_pose``: rcm 6-DOF;
   ``ik_pose_4dof``: 4-DOF), else the family's position solver (closed form or multistart,
   :func:`rcm_pin.analysis.capabilities.position_solver`) and, for a closed mechanism,
-  the Newton polish of each candidate on Pinocchio's closures (``closed_position.polish``);
+  the Newton polish of each candidate on Pinocchio's closures (``closed_position.polish``).
+  Where the serial branch kernel answers (:mod:`rcm_pin.model.serial_branches`, compiled
+  up front), also the same ``inverse`` on the numpy route (kernels disabled), interleaved:
+  ``ratio_numpy_route`` is the ratio without the kernel;
 * ``rcm_pin.forward``: serial ``forward(mech, q)`` against one Pinocchio forward
   kinematics of the output frame; closed ``forward(mech, drives, q_guess=...)`` against
   ``solve_drives`` from the same guess (the compiled closure kernel, compiled up front).
@@ -33,7 +36,7 @@ from rcm_pin.analysis.position import _as_value
 from rcm_pin.errors import RcmPinError
 from rcm_pin.mechanisms.rcm.analytic_ik import ik_pose, ik_pose_4dof
 from rcm_pin.mechanisms.rcm.closed_form import wrist_type
-from rcm_pin.model import kernels
+from rcm_pin.model import kernels, serial_branches
 
 #: Mechanisms on the numeric multistart (tens of ms a call): this many targets.
 SLOW_TARGETS = 2
@@ -97,6 +100,18 @@ def _inverse_floor(mech: rcm_pin.Mechanism) -> tuple[str, Callable[[Any], Any]]:
     return what, candidates
 
 
+def compile_now(kernel: object) -> None:
+    """Compile a kernel's function now (benchmarks measure the compiled state)."""
+    shared = getattr(kernel, "shared", None)
+    if shared is not None and shared.compile_after is not None:
+        shared.compile()
+
+
+def _numpy_inverse(mech: rcm_pin.Mechanism, target: Any) -> Any:
+    with kernels.disabled():
+        return rcm_pin.inverse(mech, target)
+
+
 def bench_mechanism(name: str, n: int, repeat: int, seed: int) -> dict[str, object]:
     """Both ratios of one mechanism."""
     mech = rcm_pin.load(name)
@@ -110,14 +125,12 @@ def bench_mechanism(name: str, n: int, repeat: int, seed: int) -> dict[str, obje
             return pin.updateFramePlacement(model, data, fid)
 
         targets = [rcm_pin.tool_pose(mech, q) for q in qs]
+        compile_now(serial_branches.warm(mech))
         fwd = {"forward": lambda q: rcm_pin.forward(mech, q), "floor": fk}
         fwd_args, floor_fwd = qs, "Pinocchio forward kinematics of the output frame"
     else:
         cases = _closed_cases(mech, n, seed)
-        kernel = kernels.warm(mech)
-        shared = getattr(kernel, "shared", None)
-        if shared is not None and shared.compile_after is not None:
-            shared.compile()
+        compile_now(kernels.warm(mech))
         fwd = {"forward": lambda c: rcm_pin.forward(mech, c[0], q_guess=c[1]),
                "floor": lambda c: cp.solve_drives(mech, c[0], c[1])}  # fmt: skip
         fwd_args, floor_fwd = cases, "solve_drives from the guess (closure kernel)"
@@ -126,10 +139,15 @@ def bench_mechanism(name: str, n: int, repeat: int, seed: int) -> dict[str, obje
     doc["forward"] = {"floor": floor_fwd, "per_call_us": t, "ratio": t["forward"] / t["floor"]}
     if targets:
         floor_inv, floor_fn = _inverse_floor(mech)
-        t = timed({"inverse": lambda x: rcm_pin.inverse(mech, x), "floor": floor_fn},
-                  targets, repeat)  # fmt: skip
+        cases = {"inverse": lambda x: rcm_pin.inverse(mech, x), "floor": floor_fn}
+        kernel = mech.loops is None and serial_branches.serial_branches(mech) is not None
+        if kernel:  # the same call on the numpy route, interleaved (before / after)
+            cases["inverse_numpy_route"] = lambda x: _numpy_inverse(mech, x)
+        t = timed(cases, targets, repeat)
         doc["inverse"] = {"floor": floor_inv, "targets": len(targets), "per_call_us": t,
                           "ratio": t["inverse"] / t["floor"]}  # fmt: skip
+        if kernel:
+            doc["inverse"]["ratio_numpy_route"] = t["inverse_numpy_route"] / t["floor"]
     return doc
 
 
@@ -138,4 +156,4 @@ def bench_families(n: int, repeat: int, seed: int) -> list[dict[str, object]]:
     return [bench_mechanism(name, n, repeat, seed) for name in rcm_pin.names()]
 
 
-__all__ = ["bench_families", "bench_mechanism", "timed"]
+__all__ = ["bench_families", "bench_mechanism", "compile_now", "timed"]

@@ -22,6 +22,9 @@ Registered as the entry point ``casadi = "ocp.kernels:provider"`` of the group
   (:mod:`ocp.kernels.closed_rhs`), or None for a pair it does not mirror
   (:func:`rcm_pin.control.closed_backend.closed_unsupported`, closure rows of less than
   full rank).
+* ``serial_branches(mech)``: every checked branch of a six- or four-DOF RCM pose in one call
+  (:mod:`ocp.kernels.branches_function`, :mod:`ocp.kernels.branches_kernel`), or None
+  for a mechanism it does not mirror.
 """
 
 from __future__ import annotations
@@ -29,6 +32,7 @@ from __future__ import annotations
 import hashlib
 import os
 import threading
+from collections.abc import Callable
 from typing import TYPE_CHECKING
 
 import casadi as ca
@@ -40,6 +44,7 @@ from ocp.kernels.serial_rhs import SerialRHSKernel, serial_rhs
 from rcm_pin.model.mechanism import Mechanism
 
 if TYPE_CHECKING:
+    from ocp.kernels.branches_kernel import SerialBranchesKernel
     from ocp.kernels.closed_rhs import ClosedRHSKernel
 
 #: Unrolled Newton iterations per call of the compiled function.
@@ -50,14 +55,20 @@ VM_ENV = "RCM_PIN_KERNEL_VM"
 
 def vm_function(mech: Mechanism, key: str) -> ca.Function:
     """The SX Newton function of ``mech`` (key: its :func:`structure_key`), from the disk
-    cache of :func:`ocp.compiled.cache_dir` (a serialised ``casadi.Function``, loaded in
+    cache of :func:`ocp.compiled.cache_dir` (:func:`cached_function`)."""
+    name = f"closure_newton_{key[:12]}"
+    return cached_function(name, key, lambda: build(mech, CHUNK, name))
+
+
+def cached_function(name: str, key: str, make: Callable[[], ca.Function]) -> ca.Function:
+    """The SX function ``name`` determined by ``key``, from the disk cache of
+    :func:`ocp.compiled.cache_dir` (a serialised ``casadi.Function``, loaded in
     milliseconds where building the graph takes 0.05–0.3 s) once its size and checksum
-    match their record (:mod:`ocp.so_cache`), else built and saved there (a temporary name,
-    renamed; a read-only cache keeps the built function)."""
+    match their record (:mod:`ocp.so_cache`), else ``make()`` and saved there (a temporary
+    name, renamed; a read-only cache keeps the built function)."""
     from ocp import so_cache
     from ocp.compiled import cache_dir
 
-    name = f"closure_newton_{key[:12]}"
     digest = hashlib.sha256(f"{key}|{ca.__version__}".encode()).hexdigest()[:20]  # type: ignore[attr-defined]
     path = cache_dir() / f"{name}_{digest}.casadi"
     if so_cache.usable(path):
@@ -65,7 +76,7 @@ def vm_function(mech: Mechanism, key: str) -> ca.Function:
             return ca.Function.load(str(path))
         except RuntimeError:  # verified yet not loadable (another CasADi): build again
             pass
-    fun = build(mech, CHUNK, name)
+    fun = make()
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
@@ -133,6 +144,27 @@ class CasadiKernels:
 
         return closed_rhs(plant, controller, vm=_vm_only())
 
+    def serial_branches(self, mech: Mechanism) -> SerialBranchesKernel | None:
+        """Every checked branch of a six- or four-DOF RCM pose in one call, or None for a mechanism
+        it does not mirror (:mod:`ocp.kernels.branches_function`; imported on the first
+        request). One function per kinematic structure, VM first, compiled after
+        :data:`~ocp.kernels.branches_kernel.COMPILE_AFTER` calls."""
+        from ocp.kernels import branches_function as bf
+        from ocp.kernels.branches_kernel import COMPILE_AFTER as AFTER
+        from ocp.kernels.branches_kernel import SerialBranchesKernel
+
+        if not bf.supported(mech):
+            return None
+        key = "serial_branches|" + bf.structure_key(mech)
+        with self._lock:
+            shared = self._shared.get(key)
+            if shared is None:
+                name = f"rcm_branches_{key[-12:]}"
+                fun = cached_function(name, key, lambda: bf.build(mech, name))
+                shared = SharedFunction(fun, key, None if _vm_only() else AFTER)
+                self._shared[key] = shared
+        return SerialBranchesKernel(shared, mech.lower, mech.upper)
+
 
 def same_residual(mech: Mechanism, fun: ca.Function, tol: float = 1e-9) -> bool:
     """Whether ``fun``'s residual norm equals Pinocchio's (to ``tol`` relative) at a seeded
@@ -149,4 +181,12 @@ def same_residual(mech: Mechanism, fun: ca.Function, tol: float = 1e-9) -> bool:
 #: The entry point's object.
 provider = CasadiKernels()
 
-__all__ = ["CHUNK", "VM_ENV", "CasadiKernels", "provider", "same_residual", "vm_function"]
+__all__ = [
+    "CHUNK",
+    "VM_ENV",
+    "CasadiKernels",
+    "cached_function",
+    "provider",
+    "same_residual",
+    "vm_function",
+]

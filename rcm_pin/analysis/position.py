@@ -26,12 +26,19 @@ from rcm_pin.analysis.assembly_modes import note as self_motion_note
 from rcm_pin.analysis.branch_check import check_branches, placement, within_limits
 from rcm_pin.analysis.capabilities import NumericPosition, position_solver
 from rcm_pin.analysis.pose_target import plain_pose
-from rcm_pin.analysis.results import PositionResult, PositionSolution, frame_placement
+from rcm_pin.analysis.results import (
+    PositionResult,
+    PositionSolution,
+    closed_form_solutions,
+    frame_placement,
+    inverse_result,
+)
 from rcm_pin.analysis.serial_ik import check_starts
 from rcm_pin.errors import InvalidInputError, SolverError, UnreachablePoseError
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import Output
 from rcm_pin.model.output_choice import require_output
+from rcm_pin.model.serial_branches import serial_branches
 from rcm_pin.rotations import numeric_array, pose_from_matrix, short_repr
 
 #: A closed-loop solve is accepted below this closure residual [m].
@@ -133,24 +140,16 @@ def inverse(
     value = plain_pose(output, target)
     if value is None:
         value = output.coerce(_as_value(output, target))
-    solver = position_solver(mech)
-    if starts is not None and isinstance(solver, NumericPosition):
-        solver = solver.with_starts(check_starts(starts))
-    found = solver.inverse(mech, value, output)
-    branches, method = found.branches, found.method
-    if mech.loops is None:  # the second route: Pinocchio FK of every branch
-        sols = check_branches(mech, output, value, branches)
+    plain = coords is None and starts is None and mech.loops is None
+    kernel = serial_branches(mech) if plain else None
+    fast = None if kernel is None else kernel(value)  # None: the kernel declines
+    if fast is not None:  # every branch checked in one compiled call (the same results)
+        sols = closed_form_solutions(
+            fast.q, fast.output, fast.labels, fast.residual, fast.within_limits
+        )
+        method = fast.method
     else:
-        sols = []
-        for b in branches:
-            q, it, res = cp.polish(mech, value, output, b.q)
-            if res >= ACCEPT_TOL:
-                raise SolverError(f"{mech.name}: inverse polish residual {res:.2e} m for {b.label}")
-            value_q = output.value(placement(mech, q))
-            sols.append(PositionSolution(q, value_q, b.label, res, it, within_limits(mech, q)))
-        # closed-form working modes stay distinct by label, even where they meet
-        if not found.closed_form:
-            sols = cp.dedupe(mech, sols)
+        sols, method = _solutions(mech, output, value, starts)
     if not sols:
         raise UnreachablePoseError(
             f"{mech.name}: target {output.to_json(value)} is outside the workspace (no "
@@ -167,7 +166,32 @@ def inverse(
                 "valid: a target with a solution inside the limits"
             )
         sols = inside
-    return PositionResult(mech, "inverse", value, output, tuple(sols), method)
+    return inverse_result(mech, value, output, tuple(sols), method)
+
+
+def _solutions(
+    mech: Mechanism, output: Output, value: np.ndarray, starts: int | None
+) -> tuple[list[PositionSolution], str]:
+    """The numpy route: the family's candidates, each checked (serial: Pinocchio FK of
+    every branch) or polished (closed: Newton on the closures); and the method text."""
+    solver = position_solver(mech)
+    if starts is not None and isinstance(solver, NumericPosition):
+        solver = solver.with_starts(check_starts(starts))
+    found = solver.inverse(mech, value, output)
+    branches, method = found.branches, found.method
+    if mech.loops is None:  # the second route: Pinocchio FK of every branch
+        return check_branches(mech, output, value, branches), method
+    sols = []
+    for b in branches:
+        q, it, res = cp.polish(mech, value, output, b.q)
+        if res >= ACCEPT_TOL:
+            raise SolverError(f"{mech.name}: inverse polish residual {res:.2e} m for {b.label}")
+        value_q = output.value(placement(mech, q))
+        sols.append(PositionSolution(q, value_q, b.label, res, it, within_limits(mech, q)))
+    # closed-form working modes stay distinct by label, even where they meet
+    if not found.closed_form:
+        sols = cp.dedupe(mech, sols)
+    return sols, method
 
 
 def violated_limits(mech: Mechanism, q: np.ndarray, tol: float = 1e-12) -> str:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterable
 from dataclasses import dataclass
 from typing import Any
 
@@ -98,10 +99,52 @@ class PositionResult:
         return out
 
 
+def closed_form_solutions(
+    qs: Iterable[np.ndarray],
+    outputs: Iterable[np.ndarray],
+    modes: Iterable[str],
+    residuals: Iterable[float],
+    inside: Iterable[bool],
+) -> list[PositionSolution]:
+    """:class:`PositionSolution` s of checked closed-form branches (0 iterations), built
+    without the frozen dataclass's ``__init__`` (six ``object.__setattr__`` calls each):
+    the same objects, equal to the constructor's, about 40 % cheaper (a kernel's results)."""
+    new, out = object.__new__, []
+    for q, v, mode, res, ok in zip(qs, outputs, modes, residuals, inside):
+        s = new(PositionSolution)
+        d = s.__dict__  # (item stores: cheaper than one update call with keywords)
+        d["q"], d["output"], d["mode"], d["residual"] = q, v, mode, res
+        d["iterations"], d["within_limits"] = 0, ok
+        out.append(s)
+    return out
+
+
+def inverse_result(
+    mech: Mechanism,
+    given: np.ndarray,
+    output: Output,
+    solutions: tuple[PositionSolution, ...],
+    method: str,
+) -> PositionResult:
+    """The :class:`PositionResult` of an inverse problem, built as
+    :func:`closed_form_solutions` builds its solutions (equal to the constructor's)."""
+    r = object.__new__(PositionResult)
+    d = r.__dict__
+    d["mechanism"], d["kind"], d["given"] = mech, "inverse", given
+    d["output"], d["solutions"], d["method"] = output, solutions, method
+    return r
+
+
 def frame_placement(mech: Mechanism, q: np.ndarray) -> np.ndarray:
     """4×4 world placement of the output (tool) frame at coordinates q."""
     pin.forwardKinematics(mech.model, mech.data, mech.q_pin(q))
     return pin.updateFramePlacement(mech.model, mech.data, mech.output.frame_id).homogeneous
 
 
-__all__ = ["PositionResult", "PositionSolution", "frame_placement"]
+__all__ = [
+    "PositionResult",
+    "PositionSolution",
+    "closed_form_solutions",
+    "frame_placement",
+    "inverse_result",
+]

@@ -34,6 +34,9 @@ Kernel kinds:
   pair by :func:`closed_rhs`; bound to a run's Baumgarte numbers, a call returns None
   where it declines (a near rank loss of the closure rows) and the caller runs the
   Python route for that call.
+* ``serial_branches`` -> :class:`~rcm_pin.model.serial_branches.SerialBranches`: every
+  checked branch of a serial inverse in one call (used by :func:`rcm_pin.inverse`; the
+  accessor and its per-Mechanism cache live in :mod:`rcm_pin.model.serial_branches`).
 
 Switches: the environment variable :data:`DISABLE_ENV` (``RCM_PIN_NO_KERNELS=1``, read
 at import), :func:`set_enabled` and the context manager :func:`disabled` (tests compare

@@ -1,0 +1,255 @@
+"""Every checked branch of a six- or four-DOF RCM pose as one ``casadi.Function``.
+
+``rcm_branches(value, limits) -> (q, output, info)`` mirrors, for a pose value ``value``
+(12,) = (x, y, z, R row by row) and ``limits`` (12,) = (lower, upper), the numpy route of
+:func:`rcm_pin.inverse` on the rcm family (operation for operation, so the results agree
+to rounding and the decisions are the same):
+
+1. the eight analytic branches of :func:`rcm_pin.mechanisms.rcm.ik_scalar.ik_pose_one`
+   (the same formulas in the same order, so the same bits: the angle variants a, −a,
+   a + π, π − a by ``if_else``; the branch table
+   :data:`rcm_pin.mechanisms.rcm.ik_tables._TABLE6`; its SO(3) screen); four-DOF: the two
+   branches of the vectorised ``ik_pose_4dof`` (:func:`_principal4`; numpy's ``arctan2``
+   ufunc may round an ulp away from the C library's, so q agree to 1e-12 there);
+2. :meth:`~rcm_pin.mechanisms.rcm.ik_solutions.IKSolutions.fit_limits`: each angle as q,
+   q + 2π or q − 2π where strictly closer to the box (the violation
+   |x − min(max(x, lower), upper)|, tie to the earlier);
+3. the check of :func:`rcm_pin.analysis.branch_check.check_branches`: the output frame's
+   placement by the symbolic forward kinematics of :class:`ocp.symbolic.SymbolicModel`
+   (Pinocchio's model, mimic joints included), the output value (x, y, z, R), the error
+   [p − p_t; log₃(R R_tᵀ)] (:func:`ocp.closure.log3`), the residual max |e| and the limit
+   flag lower − 1e-12 ≤ q ≤ upper + 1e-12.
+
+Outputs (B = 8 branches, 2 four-DOF): ``q`` (B·n,) the fitted branches row by row,
+``output`` (12 B,) their values row by row, ``info`` (2 B + 1,) = (residuals, limit
+flags, b): b > 0 where the numpy route
+leaves this path (the scalar IK declines: R off its SO(3) screen, |p| ≤ POS_TOL,
+ρ ≤ SING_TOL·|p|, the near-aligned wrist band h < 1e-3; four-DOF: p off the tool z axis,
+ρ ≤ SING_TOL; or a branch misses the target by more than ``BRANCH_TOL``, NaN included),
+and the caller then runs that route.
+"""
+
+from __future__ import annotations
+
+import hashlib
+from pathlib import Path
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+from ocp.closure import log3
+from ocp.joints import frame_specs, joint_specs
+from ocp.kernels.serial_rhs import _to_pin
+from ocp.symbolic import SymbolicModel
+from rcm_pin.analysis.branch_check import BRANCH_TOL, LIMIT_TOL
+from rcm_pin.mechanisms.rcm.ik_tables import (
+    _NEAR,
+    _SCREEN,
+    _TABLE4,
+    _TABLE6,
+    AXIS_TOL,
+    POS_TOL,
+    SING_TOL,
+)
+from rcm_pin.model.mechanism import Mechanism
+
+PI = np.pi
+#: Bump when the function's math changes (part of the structure key, with a digest of
+#: the sources that write it: :func:`_sources`).
+VERSION = "5"
+
+
+def _variants(a: Any) -> list[Any]:
+    """(a, −a, a + π, π − a) wrapped to (−π, π], as :func:`.ik_scalar._variants`."""
+    return [
+        a,
+        ca.if_else(a < PI, -a, a),
+        a + ca.if_else(a > 0.0, -PI, PI),
+        ca.if_else(a >= 0.0, PI, -PI) - a,
+    ]
+
+
+def _kept(x: Any) -> Any:
+    """``x`` ≥ 0 (or inf) as it is, in a node CasADi's simplifier does not see through:
+    it would rewrite sqrt(s)² as s and y·(1/r) as y/r, which round differently from the
+    scalar route's operations (fmax(x, 0) = x for every x ≥ 0)."""
+    return ca.fmax(x, 0.0)
+
+
+def _principal(c: list[Any], wrist: str) -> tuple[list[Any], Any]:
+    """The 24 variants of :func:`.ik_scalar.ik_pose_one` (4 per coordinate) and the decline
+    condition, from c = the 3×4 pose row by row."""
+    x, y, z = c[3], c[7], c[11]
+    rho = _kept(ca.sqrt(y * y + z * z))
+    r = ca.sqrt(rho * rho + x * x)
+    # the scalar route's 0.0 − y (+0.0 at y = ±0: q1 = +π, not −π, for z < 0), which
+    # CasADi would simplify to −y
+    a1, a2 = ca.atan2(ca.if_else(y == 0.0, 0.0, -y), z), ca.atan2(x, rho)
+    ir, irho = _kept(1.0 / r), _kept(1.0 / rho)
+    ex, ey, ez = x * ir, y * ir, z * ir
+    c1, s1, c2 = z * irho, -y * irho, rho * ir
+    s1s2, c1s2 = s1 * ex, c1 * ex
+    j, k, m = (2, 0, 1) if wrist == "zyz" else (0, 2, 1)
+    w2j = ex * c[j] + ey * c[4 + j] + ez * c[8 + j]
+    w2k = ex * c[k] + ey * c[4 + k] + ez * c[8 + k]
+    w2m = ex * c[m] + ey * c[4 + m] + ez * c[8 + m]
+    w0j = c2 * c[j] + s1s2 * c[4 + j] - c1s2 * c[8 + j]
+    w1j = c1 * c[4 + j] + s1 * c[8 + j]
+    h = ca.sqrt(w0j * w0j + w1j * w1j)
+    a4 = ca.atan2(w1j, w0j)
+    if wrist == "zyz":
+        a5, a6 = ca.atan2(h, w2j), ca.atan2(w2m, -w2k)
+    else:
+        a5, a6 = ca.atan2(-w2j, h), ca.atan2(w2m, w2k)
+    values = [*_variants(a1), *_variants(a2), r, -r, r, r]
+    values += [*_variants(a4), *_variants(a5), *_variants(a6)]
+    bad = ca.logic_or(ca.logic_or(r <= POS_TOL, rho <= SING_TOL * r), h < _NEAR)
+    return values, ca.logic_or(bad, _off_screen(c))
+
+
+def _principal4(c: list[Any]) -> tuple[list[Any], Any]:
+    """The 4-DOF twin of :func:`_principal`: the block of
+    :func:`rcm_pin.mechanisms.rcm.analytic_ik.ik_pose_4dof` (its operations in its order;
+    −ey, not 0 − ey, as there), declining where it raises or projects (p off the tool z
+    axis by more than AXIS_TOL, ρ ≤ SING_TOL, R off the screen)."""
+    ex, ey, ez = c[2], c[6], c[10]
+    rho = _kept(ca.sqrt(ey * ey + ez * ez))
+    a1, a2 = ca.atan2(-ey, ez), ca.atan2(ex, rho)
+    q3 = c[3] * ex + c[7] * ey + c[11] * ez
+    dx, dy, dz = c[3] - q3 * ex, c[7] - q3 * ey, c[11] - q3 * ez
+    off = ca.sqrt(dx * dx + dy * dy + dz * dz)
+    c1, s1 = ez / rho, -ey / rho
+    w00 = rho * c[0] + s1 * ex * c[4] - c1 * ex * c[8]
+    w10 = c1 * c[4] + s1 * c[8]
+    a4 = ca.atan2(w10, w00)
+    values = [*_variants(a1), *_variants(a2), q3, q3, q3, q3, *_variants(a4)]
+    bad = ca.logic_or(ca.logic_or(off > AXIS_TOL, rho <= SING_TOL), _off_screen(c))
+    return values, bad
+
+
+def _off_screen(c: list[Any]) -> Any:
+    """Whether :func:`.ik_scalar._screen` sends R to the SVD projection (first-order
+    distance from SO(3) above 1e-12, or det R ≤ 0): the scalar IK declines there."""
+    x0, y0, z0, x1, y1, z1, x2, y2, z2 = (c[i] for i in (0, 1, 2, 4, 5, 6, 8, 9, 10))
+    gxx = x0 * x0 + x1 * x1 + x2 * x2 - 1.0
+    gyy = y0 * y0 + y1 * y1 + y2 * y2 - 1.0
+    gzz = z0 * z0 + z1 * z1 + z2 * z2 - 1.0
+    gxy, gxz = x0 * y0 + x1 * y1 + x2 * y2, x0 * z0 + x1 * z1 + x2 * z2
+    gyz = y0 * z0 + y1 * z1 + y2 * z2
+    sq = gxx * gxx + gyy * gyy + gzz * gzz + 2.0 * (gxy * gxy + gxz * gxz + gyz * gyz)
+    det = z0 * (x1 * y2 - x2 * y1) + z1 * (x2 * y0 - x0 * y2) + z2 * (x0 * y1 - x1 * y0)
+    return ca.logic_not(ca.logic_and(0.5 * ca.sqrt(sq) <= _SCREEN, det > 0.0))
+
+
+def _fit(q: list[Any], lo: Any, up: Any) -> list[Any]:
+    """fit_limits of one branch: q, q + 2π, q − 2π per angle (q3, index 2, a length)."""
+    out = []
+    for i, qi in enumerate(q):
+        best, viol = qi, ca.fabs(qi - ca.fmin(ca.fmax(qi, lo[i]), up[i]))
+        if i != 2:
+            for shift in (2.0 * PI, -2.0 * PI):
+                cand = qi + shift
+                v = ca.fabs(cand - ca.fmin(ca.fmax(cand, lo[i]), up[i]))
+                better = v < viol
+                best, viol = ca.if_else(better, cand, best), ca.if_else(better, v, viol)
+        out.append(best)
+    return out
+
+
+def supported(mech: Mechanism) -> bool:
+    """A serial six- or four-DOF mechanism of the rcm family with a pose output (x, y, z,
+    rotation), on the family's own position solver (a subclass may answer otherwise)."""
+    from rcm_pin.analysis.capabilities import position_solver
+    from rcm_pin.errors import UnknownMechanismError
+    from rcm_pin.mechanisms.rcm import RcmPosition
+    from rcm_pin.mechanisms.rcm.inverse import _check_rcm
+
+    try:
+        _check_rcm(mech)  # what the family's analytic IK accepts
+    except UnknownMechanismError:
+        return False
+    return bool(
+        mech.loops is None
+        and mech.nq in (4, 6)
+        and type(position_solver(mech)) is RcmPosition
+        and mech.output.coords == ("x", "y", "z", "rotation")
+    )
+
+
+def build(mech: Mechanism, name: str) -> ca.Function:
+    """The function ``name`` (module docstring), SX with CSE."""
+    from rcm_pin.mechanisms.rcm.closed_form import wrist_type
+
+    wrist = wrist_type(mech)
+    assert supported(mech)
+    n = mech.nq
+    value, limits = ca.SX.sym("value", 12), ca.SX.sym("limits", 2 * n)
+    lo, up = limits[:n], limits[n:]
+    p_t, r_t = value[:3], ca.reshape(value[3:], 3, 3).T  # R_t row by row
+    c = [value[3 + 3 * (i // 4) + i % 4] if i % 4 < 3 else value[i // 4] for i in range(12)]
+    variants, bad = _principal4(c) if wrist is None else _principal(c, wrist)
+    sm = SymbolicModel(mech.model)
+    fk = sm.frame_placement(mech.output.frame_id)
+    qs, outs, res, inside = [], [], [], []
+    for branch in _TABLE4 if wrist is None else _TABLE6[wrist]:
+        q = _fit([variants[4 * i + int(v)] for i, v in enumerate(branch)], lo, up)
+        p, rot = fk(_to_pin(mech, ca.vertcat(*q), ca.SX.zeros(n))[0])
+        e = ca.vertcat(p - p_t, log3(ca.mtimes(rot, r_t.T)))
+        r_b = ca.mmax(ca.fabs(e))
+        qs += q
+        outs += [p[0], p[1], p[2], *(rot[i, j] for i in range(3) for j in range(3))]
+        res.append(r_b)
+        ok = [ca.logic_and(lo[i] - LIMIT_TOL <= q[i], up[i] + LIMIT_TOL >= q[i]) for i in range(n)]
+        inside.append(ca.logic_all(ca.vertcat(*ok)))
+        bad = ca.logic_or(bad, ca.logic_not(r_b <= BRANCH_TOL))
+    return ca.Function(
+        name,
+        [value, limits],
+        [ca.vertcat(*qs), ca.vertcat(*outs), ca.vertcat(*res, *inside, bad)],
+        ["value", "limits"],
+        ["q", "output", "info"],
+        {"cse": True},
+    )
+
+
+def structure_key(mech: Mechanism) -> str:
+    """What determines :func:`build`'s function: the kinematic tree as
+    :class:`SymbolicModel` reads it, the coordinate map, the output frame, the wrist and
+    the tolerances (the limits are an input)."""
+    from rcm_pin.mechanisms.rcm.closed_form import wrist_type
+
+    model = mech.model
+    h = hashlib.sha256()
+    for jt in joint_specs(model):
+        h.update(f"{jt.index}|{jt.parent}|{jt.kind}|{jt.idx_q}|{jt.idx_v}|{jt.mimic}|".encode())
+        h.update(np.array([jt.scaling, jt.offset, model.nq, model.nv], dtype=float).tobytes())
+        for arr in (jt.axis, jt.rotation, jt.translation):
+            h.update(np.ascontiguousarray(arr, dtype=float).tobytes())
+    for f in frame_specs(model):
+        h.update(f"{f.index}|{f.parent}|".encode())
+        for arr in (f.rotation, f.translation):
+            h.update(np.ascontiguousarray(arr, dtype=float).tobytes())
+    for idx in (mech.q_index, mech.continuous):
+        h.update(np.asarray(idx, dtype=np.int64).tobytes() + b"|")
+    tols = (POS_TOL, SING_TOL, AXIS_TOL, _NEAR, _SCREEN, LIMIT_TOL, BRANCH_TOL)
+    h.update(f"{mech.output.frame_id}|{wrist_type(mech)}|{tols!r}|v={VERSION}".encode())
+    h.update(_sources().encode())
+    return h.hexdigest()
+
+
+def _sources() -> str:
+    """Digest of the modules whose code the function copies (a change rebuilds it)."""
+    import ocp.closure
+    import ocp.kinematics
+    import ocp.symbolic
+    import rcm_pin.mechanisms.rcm.ik_scalar
+    import rcm_pin.mechanisms.rcm.ik_tables
+
+    mods = (ocp.closure, ocp.kinematics, ocp.symbolic, rcm_pin.mechanisms.rcm.ik_scalar,
+            rcm_pin.mechanisms.rcm.ik_tables)  # fmt: skip
+    files = [Path(__file__), *(Path(str(m.__file__)) for m in mods)]
+    return hashlib.sha256(b"".join(f.read_bytes() for f in files)).hexdigest()
+
+
+__all__ = ["VERSION", "build", "structure_key", "supported"]

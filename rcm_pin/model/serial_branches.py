@@ -1,0 +1,88 @@
+"""The kernel kind ``serial_branches``: every checked branch of a serial inverse in one call.
+
+A provider of :mod:`rcm_pin.model.kernels` may answer ``serial_branches(mech)`` with a
+:class:`SerialBranches` kernel: for a pose value of ``mech.output`` it returns what the
+numpy route of :func:`rcm_pin.inverse` finds (the family's closed-form branches, fitted
+into the joint limits, each checked by forward kinematics: output value, residual, limit
+flag), as arrays (:class:`BranchArrays`), or None where it cannot reproduce that route (a
+degenerate pose, a branch that misses the target, anything not finite); the caller then
+runs the numpy route from the same inputs, which raises the typed errors. Kernels are
+looked up once per Mechanism (cached with it) and follow the switches of
+:mod:`rcm_pin.model.kernels` (``RCM_PIN_NO_KERNELS=1``, :func:`~rcm_pin.model.kernels.disabled`).
+"""
+
+from __future__ import annotations
+
+import threading
+import warnings
+import weakref
+from typing import NamedTuple, Protocol
+
+import numpy as np
+
+from rcm_pin.model import kernels
+from rcm_pin.model.mechanism import Mechanism
+
+
+class BranchArrays(NamedTuple):
+    """Every branch of one target, checked: ``q`` (B, n) [rad, m], ``output`` (B, size)
+    (the values at q), ``residual`` (B) max |e| [m, rad], ``within_limits`` (B), the
+    branch ``labels`` and the ``method`` text of the result."""
+
+    q: np.ndarray
+    output: np.ndarray
+    residual: list[float]
+    within_limits: list[bool]
+    labels: tuple[str, ...]
+    method: str
+
+
+class SerialBranches(Protocol):
+    """The checked branches of a serial inverse problem for ``mech.output``."""
+
+    def __call__(self, value: np.ndarray) -> BranchArrays | None:
+        """The numpy route's branches for an output value (validated, (size,)), or None
+        where the kernel cannot reproduce them (the caller runs the numpy route)."""
+        ...
+
+
+_cache: weakref.WeakKeyDictionary[Mechanism, SerialBranches | None] = weakref.WeakKeyDictionary()
+_lock = threading.Lock()
+
+
+def serial_branches(mech: Mechanism) -> SerialBranches | None:
+    """The branch kernel of ``mech`` (first provider that has one), or None when kernels
+    are disabled or none applies. Built on the first request, then cached."""
+    if not kernels.enabled():
+        return None
+    try:
+        return _cache[mech]
+    except KeyError:
+        return warm(mech)
+
+
+def warm(mech: Mechanism) -> SerialBranches | None:
+    """Build (or look up) the branch kernel of ``mech`` now; None if none applies."""
+    with _lock:
+        if mech not in _cache:
+            _cache[mech] = _first(mech)
+        return _cache[mech]
+
+
+def _first(mech: Mechanism) -> SerialBranches | None:
+    for p in kernels.providers():
+        build = getattr(p, "serial_branches", None)
+        if build is None:
+            continue
+        try:
+            kernel: SerialBranches | None = build(mech)
+        except Exception as exc:  # an optional accelerator: numpy serves
+            msg = f"{mech.name}: serial branches kernel not built: {exc}"
+            warnings.warn(msg, kernels.KernelWarning, stacklevel=3)
+            continue
+        if kernel is not None:
+            return kernel
+    return None
+
+
+__all__ = ["BranchArrays", "SerialBranches", "serial_branches", "warm"]
