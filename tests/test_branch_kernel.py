@@ -47,7 +47,9 @@ def mech(request):
 
 
 def _routes(mech, target, **options):
-    """(kernel route, numpy route) of rcm_pin.inverse; a typed error is returned."""
+    """(kernel route, numpy route) of rcm_pin.inverse; a typed error is returned. The
+    kernel is built first (else the first WARM_CALLS requests take the numpy route)."""
+    serial_branches.warm(mech)
     out = []
     for use in (True, False):
         previous = kernels.set_enabled(use)
@@ -212,9 +214,25 @@ def test_a_value_target_takes_the_kernel_route_too():
     assert_same(*_routes(mech, value))
 
 
+def test_the_kernel_is_looked_up_after_warm_calls_requests():
+    """A one-shot inverse never imports the kernel's provider; a loop gets it."""
+    mech = rcm_pin.load("rcm_bevel")
+    assert [serial_branches.serial_branches(mech) for _ in range(serial_branches.WARM_CALLS)] == [
+        None
+    ] * serial_branches.WARM_CALLS
+    assert serial_branches.serial_branches(mech) is not None
+    code = (
+        "import sys, rcm_pin; m = rcm_pin.load('rcm_bevel'); "
+        "rcm_pin.inverse(m, rcm_pin.tool_pose(m, m.configurations['mid'])); "
+        "print('ocp.kernels' in sys.modules, 'casadi' in sys.modules)"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.split() == ["False", "False"]
+
+
 def test_disable_switch_and_environment_variable():
     mech = rcm_pin.load("rcm_bevel")
-    assert serial_branches.serial_branches(mech) is not None
+    assert serial_branches.warm(mech) is not None
     with kernels.disabled():
         assert serial_branches.serial_branches(mech) is None
     code = (

@@ -47,18 +47,31 @@ class SerialBranches(Protocol):
 
 
 _cache: weakref.WeakKeyDictionary[Mechanism, SerialBranches | None] = weakref.WeakKeyDictionary()
+_calls: weakref.WeakKeyDictionary[Mechanism, int] = weakref.WeakKeyDictionary()
 _lock = threading.Lock()
+
+#: Requests of a Mechanism answered None (its numpy route) before the kernel is looked up:
+#: finding and loading it costs 70-80 ms (CasADi, ``ocp.kernels``, the entry points), the
+#: numpy route ~70 us more per call than the kernel, so a one-shot ``inverse`` (the CLI, a
+#: script) never pays the import and a loop pays it once it has made this many calls.
+WARM_CALLS = 100
 
 
 def serial_branches(mech: Mechanism) -> SerialBranches | None:
     """The branch kernel of ``mech`` (first provider that has one), or None when kernels
-    are disabled or none applies. Built on the first request, then cached."""
+    are disabled, none applies, or ``mech`` has made fewer than :data:`WARM_CALLS`
+    requests (the numpy route serves them: same results). Then built once and cached;
+    :func:`warm` builds it at once."""
     if not kernels.enabled():
         return None
     try:
         return _cache[mech]
     except KeyError:
-        return warm(mech)
+        pass
+    with _lock:
+        seen = _calls.get(mech, 0)
+        _calls[mech] = seen + 1
+    return warm(mech) if seen >= WARM_CALLS else None
 
 
 def warm(mech: Mechanism) -> SerialBranches | None:
