@@ -1,6 +1,6 @@
 """rcm-pin against the tools users would pick instead, each in its own venv (README.md).
 
-    PYTHONPATH=. python benchmarks/peers/run.py --venvs /work/venvs --json peers.json
+    PYTHONPATH=. python benchmarks/peers/run.py --venvs "$VENVS" --json peers.json
     PYTHONPATH=. python benchmarks/peers/run.py --rows sim,inverse --rounds 3
     PYTHONPATH=. python benchmarks/peers/run.py --list
 
