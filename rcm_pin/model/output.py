@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -130,19 +131,29 @@ class Output:
         return Output(self.frame, tuple(coords), self.frame_id)
 
     # ------------------------------------------------------------------ values
-    def value(self, oMf: pin.SE3) -> np.ndarray:
-        """Value vector (size,) of a frame placement."""
-        out: list[float] = []
-        h = oMf.homogeneous.ravel().tolist()  # one copy: h[4 i + j] = M[i, j]
+    @cached_property
+    def _picks(self) -> np.ndarray | list[tuple[int, int]]:
+        """Where the value's entries sit in a flattened placement (``h[4 i + j]`` =
+        M[i, j]): an index array for one ``take`` without angle tokens, else per entry
+        (i, −1) for h[i] and (i, j) for atan2(h[i], h[j])."""
+        out: list[tuple[int, int]] = []
         for c in self.coords:
             if c == "rotation":
-                out += h[0:3] + h[4:7] + h[8:11]
-            elif c in _FLAT:
-                out.append(h[_FLAT[c]])
+                out += [(k, -1) for k in (0, 1, 2, 4, 5, 6, 8, 9, 10)]
             else:
-                i, j = _ANGLE[c]
-                out.append(math.atan2(h[i], h[j]))  # np.arctan2's value, bit for bit
-        return np.array(out)
+                out.append((_FLAT[c], -1) if c in _FLAT else _ANGLE[c])
+        if any(j >= 0 for _, j in out):
+            return out
+        return np.array([i for i, _ in out], dtype=np.intp)
+
+    def value(self, oMf: pin.SE3) -> np.ndarray:
+        """Value vector (size,) of a frame placement."""
+        picks = self._picks
+        if type(picks) is np.ndarray:  # no angle: the entries, copied by one numpy call
+            return oMf.homogeneous.take(picks)
+        h = oMf.homogeneous.ravel().tolist()  # one copy
+        atan2 = math.atan2  # np.arctan2's value, bit for bit
+        return np.array([h[i] if j < 0 else atan2(h[i], h[j]) for i, j in picks])
 
     def error(self, value: np.ndarray, target: np.ndarray) -> np.ndarray:
         """e (dim,) of a value with respect to a target (module docstring)."""
