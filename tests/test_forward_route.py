@@ -16,12 +16,7 @@ from conftest import random_q
 import rcm_pin
 from rcm_pin.analysis.branch_check import LIMIT_TOL, within_limits
 from rcm_pin.analysis.forward_route import forward_reference, plan
-from rcm_pin.analysis.results import (
-    PositionResult,
-    PositionSolution,
-    inverse_result,
-    position_solution,
-)
+from rcm_pin.analysis.results import PositionResult, PositionSolution, one_solution
 from rcm_pin.errors import RcmPinError
 from rcm_pin.model import kernels
 from rcm_pin.model.output import _ANGLE, _FLAT, Output
@@ -195,17 +190,18 @@ def test_output_values_equal_the_token_loop(coords):
     assert Output("", ()).value(pin.SE3.Identity()).shape == (0,)
 
 
-def test_position_solution_and_forward_result_equal_the_constructors():
-    q, v = np.arange(6.0), np.arange(3.0)
-    fast = position_solution(q, v, "guess", 1e-16, 3, False)
-    slow = PositionSolution(q, v, "guess", 1e-16, 3, False)
-    assert type(fast) is PositionSolution and list(vars(fast)) == list(vars(slow))
-    assert fast == slow
+def test_one_solution_equals_the_constructors():
+    q, v = np.arange(4.0), np.arange(1.0)
+    mech = rcm_pin.load("four_bar")
+    made = one_solution(mech, "forward", q[:1], "Newton", (q, v, "guess", 1e-16, 3, False))
+    sol = PositionSolution(q, v, "guess", 1e-16, 3, False)
+    built = PositionResult(mech, "forward", q[:1], mech.output, (sol,), "Newton")
+    assert type(made) is PositionResult and list(vars(made)) == list(vars(built))
+    assert made == built
+    (fast,) = made.solutions
+    assert type(fast) is PositionSolution and list(vars(fast)) == list(vars(sol))
+    assert fast == sol
     with pytest.raises(AttributeError):
         fast.mode = "other"  # type: ignore[misc]
-    mech = rcm_pin.load("four_bar")
-    args = (v, mech.output, (fast,), "Newton")
-    made = inverse_result(mech, *args, kind="forward")
-    built = PositionResult(mech, "forward", *args)
-    assert type(made) is PositionResult and list(vars(made)) == list(vars(built))
-    assert made == built and made.kind == "forward"
+    with pytest.raises(AttributeError):
+        made.kind = "inverse"  # type: ignore[misc]

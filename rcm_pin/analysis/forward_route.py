@@ -20,8 +20,8 @@ of every closed catalogue mechanism) at a fraction of that cost:
   lower − :data:`~rcm_pin.analysis.branch_check.LIMIT_TOL` and upper + ``LIMIT_TOL`` as
   floats, the very floats that :func:`~rcm_pin.analysis.branch_check.within_limits`
   computes on each call;
-* the results built by :func:`~rcm_pin.analysis.results.position_solution` and
-  :func:`~rcm_pin.analysis.results.inverse_result` (equal to the constructors').
+* the result and its solution built by :func:`~rcm_pin.analysis.results.one_solution`
+  (equal to the constructors').
 """
 
 from __future__ import annotations
@@ -36,12 +36,7 @@ import pinocchio as pin
 
 from rcm_pin.analysis import closed_position as cp
 from rcm_pin.analysis.branch_check import LIMIT_TOL, placement, within_limits
-from rcm_pin.analysis.results import (
-    PositionResult,
-    PositionSolution,
-    inverse_result,
-    position_solution,
-)
+from rcm_pin.analysis.results import PositionResult, PositionSolution, one_solution
 from rcm_pin.model import kernels
 from rcm_pin.model.loops import Loops
 from rcm_pin.model.mechanism import Mechanism
@@ -90,8 +85,7 @@ def serial(mech: Mechanism, q: Any) -> PositionResult:
     pin.forwardKinematics(model, data, qc if p.identity else mech.to_pin(qc))
     value = output.value(pin.updateFramePlacement(model, data, output.frame_id))
     inside = all(map(le, p.lo, ql)) and all(map(le, ql, p.hi))
-    sol = position_solution(qc, value, "tree", 0.0, 0, inside)
-    return inverse_result(mech, qc, output, (sol,), TREE, "forward")
+    return one_solution(mech, "forward", qc, TREE, (qc, value, "tree", 0.0, 0, inside))
 
 
 def from_guess(mech: Mechanism, loops: Loops, q: Any, q_guess: Any) -> PositionResult:
@@ -121,8 +115,7 @@ def from_guess(mech: Mechanism, loops: Loops, q: Any, q_guess: Any) -> PositionR
     value = output.value(pin.updateFramePlacement(model, data, output.frame_id))
     ql = qs.tolist()
     inside = all(map(le, p.lo, ql)) and all(map(le, ql, p.hi))
-    sol = position_solution(qs, value, "guess", res, it, inside)
-    return inverse_result(mech, drives, output, (sol,), GUESS, "forward")
+    return one_solution(mech, "forward", drives, GUESS, (qs, value, "guess", res, it, inside))
 
 
 def forward_reference(mech: Mechanism, q: Any, q_guess: Any = None) -> PositionResult:

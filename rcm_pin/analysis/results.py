@@ -119,16 +119,25 @@ def closed_form_solutions(
     return out
 
 
-def position_solution(
-    q: np.ndarray, output: np.ndarray, mode: str, residual: float, iterations: int, inside: bool
-) -> PositionSolution:
-    """One :class:`PositionSolution`, built as :func:`closed_form_solutions` builds its
-    solutions (equal to the constructor's; :func:`rcm_pin.forward`'s hot path)."""
-    s = object.__new__(PositionSolution)
+def one_solution(
+    mech: Mechanism,
+    kind: str,
+    given: np.ndarray,
+    method: str,
+    solution: tuple[np.ndarray, np.ndarray, str, float, int, bool],
+) -> PositionResult:
+    """The :class:`PositionResult` of one :class:`PositionSolution` (its fields in
+    ``solution``; the output is ``mech.output``), both built as
+    :func:`closed_form_solutions` builds its solutions (equal to the constructors';
+    :func:`rcm_pin.forward`'s hot path)."""
+    new = object.__new__
+    s, r = new(PositionSolution), new(PositionResult)
     d = s.__dict__
-    d["q"], d["output"], d["mode"], d["residual"] = q, output, mode, residual
-    d["iterations"], d["within_limits"] = iterations, inside
-    return s
+    d["q"], d["output"], d["mode"], d["residual"], d["iterations"], d["within_limits"] = solution
+    d = r.__dict__
+    d["mechanism"], d["kind"], d["given"] = mech, kind, given
+    d["output"], d["solutions"], d["method"] = mech.output, (s,), method
+    return r
 
 
 def inverse_result(
@@ -137,14 +146,12 @@ def inverse_result(
     output: Output,
     solutions: tuple[PositionSolution, ...],
     method: str,
-    kind: str = "inverse",
 ) -> PositionResult:
-    """The :class:`PositionResult` of an inverse problem (``kind="forward"``: of a forward
-    one), built as :func:`closed_form_solutions` builds its solutions (equal to the
-    constructor's)."""
+    """The :class:`PositionResult` of an inverse problem, built as
+    :func:`closed_form_solutions` builds its solutions (equal to the constructor's)."""
     r = object.__new__(PositionResult)
     d = r.__dict__
-    d["mechanism"], d["kind"], d["given"] = mech, kind, given
+    d["mechanism"], d["kind"], d["given"] = mech, "inverse", given
     d["output"], d["solutions"], d["method"] = output, solutions, method
     return r
 
@@ -161,5 +168,5 @@ __all__ = [
     "closed_form_solutions",
     "frame_placement",
     "inverse_result",
-    "position_solution",
+    "one_solution",
 ]

@@ -132,28 +132,31 @@ class Output:
 
     # ------------------------------------------------------------------ values
     @cached_property
-    def _picks(self) -> np.ndarray | list[tuple[int, int]]:
+    def _picks(self) -> tuple[np.ndarray, tuple[tuple[int, int, int], ...]]:
         """Where the value's entries sit in a flattened placement (``h[4 i + j]`` =
-        M[i, j]): an index array for one ``take`` without angle tokens, else per entry
-        (i, −1) for h[i] and (i, j) for atan2(h[i], h[j])."""
-        out: list[tuple[int, int]] = []
+        M[i, j]): the entry per value entry (an angle's numerator), and per angle token
+        (its position, i, j) for atan2(h[i], h[j])."""
+        picks: list[int] = []
+        angles: list[tuple[int, int, int]] = []
         for c in self.coords:
             if c == "rotation":
-                out += [(k, -1) for k in (0, 1, 2, 4, 5, 6, 8, 9, 10)]
+                picks += [0, 1, 2, 4, 5, 6, 8, 9, 10]
+            elif c in _FLAT:
+                picks.append(_FLAT[c])
             else:
-                out.append((_FLAT[c], -1) if c in _FLAT else _ANGLE[c])
-        if any(j >= 0 for _, j in out):
-            return out
-        return np.array([i for i, _ in out], dtype=np.intp)
+                i, j = _ANGLE[c]
+                angles.append((len(picks), i, j))
+                picks.append(i)
+        return np.array(picks, dtype=np.intp), tuple(angles)
 
     def value(self, oMf: pin.SE3) -> np.ndarray:
         """Value vector (size,) of a frame placement."""
-        picks = self._picks
-        if type(picks) is np.ndarray:  # no angle: the entries, copied by one numpy call
-            return oMf.homogeneous.take(picks)
-        h = oMf.homogeneous.ravel().tolist()  # one copy
-        atan2 = math.atan2  # np.arctan2's value, bit for bit
-        return np.array([h[i] if j < 0 else atan2(h[i], h[j]) for i, j in picks])
+        picks, angles = self._picks
+        h = oMf.homogeneous
+        out = h.take(picks)  # the entries, copied by one numpy call
+        for k, i, j in angles:
+            out[k] = math.atan2(h.item(i), h.item(j))  # np.arctan2's value, bit for bit
+        return out
 
     def error(self, value: np.ndarray, target: np.ndarray) -> np.ndarray:
         """e (dim,) of a value with respect to a target (module docstring)."""
