@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from rcm_pin.analysis import closed_position as cp
+from rcm_pin.analysis import forward_route
 from rcm_pin.analysis.assembly_modes import distinct_modes
 from rcm_pin.analysis.assembly_modes import note as self_motion_note
 from rcm_pin.analysis.branch_check import check_branches, placement, within_limits
@@ -61,40 +62,32 @@ def forward(
         UnreachablePoseError: closed: the drives admit no assembly.
         SolverError: closed: Newton failed from ``q_guess``.
     """
-    if mech.loops is None:
-        qc = mech.check_q(q)
-        value = mech.output.value(placement(mech, qc))
-        sol = PositionSolution(qc, value, "tree", 0.0, 0, within_limits(mech, qc))
-        return PositionResult(
-            mech, "forward", qc, mech.output, (sol,), "Pinocchio forward kinematics"
-        )
-    drives = mech.check_q(q, "drives", mech.loops.dof)
+    loops = mech.loops
+    if loops is None:  # the hot paths: the general route's results, cheaper
+        return forward_route.serial(mech, q)
     if q_guess is not None and not all_modes:
-        q0 = mech.check_q(q_guess, "q_guess")
-        qs, it, res = cp.solve_drives(mech, drives, q0)
-        sols = [_closed_solution(mech, qs, "guess", res, it)]
-        method = "Newton on Pinocchio closures from the guess"
-    else:
-        found = position_solver(mech).direct(mech, drives)
-        seeds, method = found.seeds, found.method
-        sols = []
-        for q0 in seeds:
-            try:
-                qs, it, res = cp.solve_drives(mech, drives, q0)
-            except SolverError:
-                continue
-            sols.append(_closed_solution(mech, qs, f"assembly_{len(sols)}", res, it))
-        sols = [  # numbered 0, 1, ... after merging (docs/conventions.md)
-            replace(s, mode=f"assembly_{i}")
-            for i, s in enumerate(distinct_modes(mech, cp.dedupe(mech, sols)))
-        ]
-        if not sols:
-            raise UnreachablePoseError(
-                f"{mech.name}: drives {drives.tolist()} admit no assembly (the loops cannot "
-                f"close); valid: drive values inside the workspace of {mech.name}"
-            )
-        method += self_motion_note(mech, sols)
-        sols = sols if all_modes else sols[:1]
+        return forward_route.from_guess(mech, loops, q, q_guess)
+    drives = mech.check_q(q, "drives", loops.dof)
+    found = position_solver(mech).direct(mech, drives)
+    seeds, method = found.seeds, found.method
+    sols: list[PositionSolution] = []
+    for q0 in seeds:
+        try:
+            qs, it, res = cp.solve_drives(mech, drives, q0)
+        except SolverError:
+            continue
+        sols.append(_closed_solution(mech, qs, f"assembly_{len(sols)}", res, it))
+    sols = [  # numbered 0, 1, ... after merging (docs/conventions.md)
+        replace(s, mode=f"assembly_{i}")
+        for i, s in enumerate(distinct_modes(mech, cp.dedupe(mech, sols)))
+    ]
+    if not sols:
+        raise UnreachablePoseError(
+            f"{mech.name}: drives {drives.tolist()} admit no assembly (the loops cannot "
+            f"close); valid: drive values inside the workspace of {mech.name}"
+        )
+    method += self_motion_note(mech, sols)
+    sols = sols if all_modes else sols[:1]
     return PositionResult(mech, "forward", drives, mech.output, tuple(sols), method)
 
 

@@ -119,6 +119,27 @@ def closed_form_solutions(
     return out
 
 
+def one_solution(
+    mech: Mechanism,
+    kind: str,
+    given: np.ndarray,
+    method: str,
+    solution: tuple[np.ndarray, np.ndarray, str, float, int, bool],
+) -> PositionResult:
+    """The :class:`PositionResult` of one :class:`PositionSolution` (its fields in
+    ``solution``; the output is ``mech.output``), both built as
+    :func:`closed_form_solutions` builds its solutions (equal to the constructors';
+    :func:`rcm_pin.forward`'s hot path)."""
+    new = object.__new__
+    s, r = new(PositionSolution), new(PositionResult)
+    d = s.__dict__
+    d["q"], d["output"], d["mode"], d["residual"], d["iterations"], d["within_limits"] = solution
+    d = r.__dict__
+    d["mechanism"], d["kind"], d["given"] = mech, kind, given
+    d["output"], d["solutions"], d["method"] = mech.output, (s,), method
+    return r
+
+
 def inverse_result(
     mech: Mechanism,
     given: np.ndarray,
@@ -147,4 +168,5 @@ __all__ = [
     "closed_form_solutions",
     "frame_placement",
     "inverse_result",
+    "one_solution",
 ]

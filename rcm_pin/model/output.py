@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -130,19 +131,32 @@ class Output:
         return Output(self.frame, tuple(coords), self.frame_id)
 
     # ------------------------------------------------------------------ values
-    def value(self, oMf: pin.SE3) -> np.ndarray:
-        """Value vector (size,) of a frame placement."""
-        out: list[float] = []
-        h = oMf.homogeneous.ravel().tolist()  # one copy: h[4 i + j] = M[i, j]
+    @cached_property
+    def _picks(self) -> tuple[np.ndarray, tuple[tuple[int, int, int], ...]]:
+        """Where the value's entries sit in a flattened placement (``h[4 i + j]`` =
+        M[i, j]): the entry per value entry (an angle's numerator), and per angle token
+        (its position, i, j) for atan2(h[i], h[j])."""
+        picks: list[int] = []
+        angles: list[tuple[int, int, int]] = []
         for c in self.coords:
             if c == "rotation":
-                out += h[0:3] + h[4:7] + h[8:11]
+                picks += [0, 1, 2, 4, 5, 6, 8, 9, 10]
             elif c in _FLAT:
-                out.append(h[_FLAT[c]])
+                picks.append(_FLAT[c])
             else:
                 i, j = _ANGLE[c]
-                out.append(math.atan2(h[i], h[j]))  # np.arctan2's value, bit for bit
-        return np.array(out)
+                angles.append((len(picks), i, j))
+                picks.append(i)
+        return np.array(picks, dtype=np.intp), tuple(angles)
+
+    def value(self, oMf: pin.SE3) -> np.ndarray:
+        """Value vector (size,) of a frame placement."""
+        picks, angles = self._picks
+        h = oMf.homogeneous
+        out = h.take(picks)  # the entries, copied by one numpy call
+        for k, i, j in angles:
+            out[k] = math.atan2(h.item(i), h.item(j))  # np.arctan2's value, bit for bit
+        return out
 
     def error(self, value: np.ndarray, target: np.ndarray) -> np.ndarray:
         """e (dim,) of a value with respect to a target (module docstring)."""
