@@ -53,6 +53,7 @@ from rcm_pin.mechanisms.rcm.ik_tables import (
     SING_TOL,
 )
 from rcm_pin.model.mechanism import Mechanism
+from rcm_pin.model.so3_defect import so3_defect
 
 PI = np.pi
 #: Bump when the function's math changes (part of the structure key, with a digest of
@@ -131,14 +132,7 @@ def _principal4(c: list[Any]) -> tuple[list[Any], Any]:
 def _off_screen(c: list[Any]) -> Any:
     """Whether :func:`.ik_scalar._screen` sends R to the SVD projection (first-order
     distance from SO(3) above 1e-12, or det R ≤ 0): the scalar IK declines there."""
-    x0, y0, z0, x1, y1, z1, x2, y2, z2 = (c[i] for i in (0, 1, 2, 4, 5, 6, 8, 9, 10))
-    gxx = x0 * x0 + x1 * x1 + x2 * x2 - 1.0
-    gyy = y0 * y0 + y1 * y1 + y2 * y2 - 1.0
-    gzz = z0 * z0 + z1 * z1 + z2 * z2 - 1.0
-    gxy, gxz = x0 * y0 + x1 * y1 + x2 * y2, x0 * z0 + x1 * z1 + x2 * z2
-    gyz = y0 * z0 + y1 * z1 + y2 * z2
-    sq = gxx * gxx + gyy * gyy + gzz * gzz + 2.0 * (gxy * gxy + gxz * gxz + gyz * gyz)
-    det = z0 * (x1 * y2 - x2 * y1) + z1 * (x2 * y0 - x0 * y2) + z2 * (x0 * y1 - x1 * y0)
+    sq, det = so3_defect([c[i] for i in (0, 1, 2, 4, 5, 6, 8, 9, 10)])
     return ca.logic_not(ca.logic_and(0.5 * ca.sqrt(sq) <= _SCREEN, det > 0.0))
 
 
@@ -245,9 +239,10 @@ def _sources() -> str:
     import ocp.symbolic
     import rcm_pin.mechanisms.rcm.ik_scalar
     import rcm_pin.mechanisms.rcm.ik_tables
+    import rcm_pin.model.so3_defect
 
     mods = (ocp.closure, ocp.kinematics, ocp.symbolic, rcm_pin.mechanisms.rcm.ik_scalar,
-            rcm_pin.mechanisms.rcm.ik_tables)  # fmt: skip
+            rcm_pin.mechanisms.rcm.ik_tables, rcm_pin.model.so3_defect)  # fmt: skip
     files = [Path(__file__), *(Path(str(m.__file__)) for m in mods)]
     return hashlib.sha256(b"".join(f.read_bytes() for f in files)).hexdigest()
 

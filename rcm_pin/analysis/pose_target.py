@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from rcm_pin.model.output import POSE, Output
+from rcm_pin.model.so3_defect import so3_defect
 from rcm_pin.rotations import LAST_ROW_TOL, MAX_ABS
 
 #: R is kept as given when its distance from SO(3) (first order: ½‖RᵀR − I‖_F, what the
@@ -50,14 +51,8 @@ def plain_pose(output: Output, target: Any) -> np.ndarray | None:
         return None
     if not math.hypot(*c) <= MAX_ABS:  # NaN and inf fail too
         return None
-    x0, y0, z0, x1, y1, z1, x2, y2, z2 = r = [*c[0:3], *c[4:7], *c[8:11]]
-    gxx = x0 * x0 + x1 * x1 + x2 * x2 - 1.0
-    gyy = y0 * y0 + y1 * y1 + y2 * y2 - 1.0
-    gzz = z0 * z0 + z1 * z1 + z2 * z2 - 1.0
-    gxy, gxz = x0 * y0 + x1 * y1 + x2 * y2, x0 * z0 + x1 * z1 + x2 * z2
-    gyz = y0 * z0 + y1 * z1 + y2 * z2
-    sq = gxx * gxx + gyy * gyy + gzz * gzz + 2.0 * (gxy * gxy + gxz * gxz + gyz * gyz)
-    det = z0 * (x1 * y2 - x2 * y1) + z1 * (x2 * y0 - x0 * y2) + z2 * (x0 * y1 - x1 * y0)
+    r = [*c[0:3], *c[4:7], *c[8:11]]
+    sq, det = so3_defect(r)
     if not (0.5 * math.sqrt(sq) <= KEEP_TOL and det > 0.0):
         return None
     return np.array([c[3], c[7], c[11], *r])

@@ -19,6 +19,7 @@ from operator import itemgetter
 import numpy as np
 
 from rcm_pin.mechanisms.rcm.ik_tables import _NEAR, _SCREEN, _TABLE6, POS_TOL, SING_TOL
+from rcm_pin.model.so3_defect import so3_defect
 
 PI = math.pi
 #: Per wrist type, an itemgetter picking the 48 branch entries (8 branches × q1..q6, row-
@@ -43,15 +44,8 @@ def _variants(a: float) -> tuple[float, float, float, float]:
 def _screen(r: list[float]) -> float | None:
     """First-order distance of R (row-major 9 entries) from SO(3), or None if it needs the
     SVD projection (distance > 1e-12 or det ≤ 0)."""
-    x0, y0, z0, x1, y1, z1, x2, y2, z2 = r  # columns x, y, z of R (rows 0..2)
-    gxx = x0 * x0 + x1 * x1 + x2 * x2 - 1.0
-    gyy = y0 * y0 + y1 * y1 + y2 * y2 - 1.0
-    gzz = z0 * z0 + z1 * z1 + z2 * z2 - 1.0
-    gxy, gxz = x0 * y0 + x1 * y1 + x2 * y2, x0 * z0 + x1 * z1 + x2 * z2
-    gyz = y0 * z0 + y1 * z1 + y2 * z2
-    sq = gxx * gxx + gyy * gyy + gzz * gzz + 2.0 * (gxy * gxy + gxz * gxz + gyz * gyz)
+    sq, det = so3_defect(r)
     dist = 0.5 * math.sqrt(sq)
-    det = z0 * (x1 * y2 - x2 * y1) + z1 * (x2 * y0 - x0 * y2) + z2 * (x0 * y1 - x1 * y0)
     return dist if dist <= _SCREEN and det > 0.0 else None
 
 
