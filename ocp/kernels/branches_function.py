@@ -32,14 +32,13 @@ and the caller then runs that route.
 from __future__ import annotations
 
 import hashlib
-from pathlib import Path
 from typing import Any
 
 import casadi as ca
 import numpy as np
 
 from ocp.closure import log3
-from ocp.joints import frame_specs, joint_specs
+from ocp.kernels.digest import source_digest, update_with_tree
 from ocp.kernels.serial_rhs import _to_pin
 from ocp.symbolic import SymbolicModel
 from rcm_pin.analysis.branch_check import BRANCH_TOL, LIMIT_TOL
@@ -215,15 +214,7 @@ def structure_key(mech: Mechanism) -> str:
 
     model = mech.model
     h = hashlib.sha256()
-    for jt in joint_specs(model):
-        h.update(f"{jt.index}|{jt.parent}|{jt.kind}|{jt.idx_q}|{jt.idx_v}|{jt.mimic}|".encode())
-        h.update(np.array([jt.scaling, jt.offset, model.nq, model.nv], dtype=float).tobytes())
-        for arr in (jt.axis, jt.rotation, jt.translation):
-            h.update(np.ascontiguousarray(arr, dtype=float).tobytes())
-    for f in frame_specs(model):
-        h.update(f"{f.index}|{f.parent}|".encode())
-        for arr in (f.rotation, f.translation):
-            h.update(np.ascontiguousarray(arr, dtype=float).tobytes())
+    update_with_tree(h, model)
     for idx in (mech.q_index, mech.continuous):
         h.update(np.asarray(idx, dtype=np.int64).tobytes() + b"|")
     tols = (POS_TOL, SING_TOL, AXIS_TOL, _NEAR, _SCREEN, LIMIT_TOL, BRANCH_TOL)
@@ -243,8 +234,7 @@ def _sources() -> str:
 
     mods = (ocp.closure, ocp.kinematics, ocp.symbolic, rcm_pin.mechanisms.rcm.ik_scalar,
             rcm_pin.mechanisms.rcm.ik_tables, rcm_pin.model.so3_defect)  # fmt: skip
-    files = [Path(__file__), *(Path(str(m.__file__)) for m in mods)]
-    return hashlib.sha256(b"".join(f.read_bytes() for f in files)).hexdigest()
+    return source_digest(__file__, mods)
 
 
 __all__ = ["VERSION", "build", "structure_key", "supported"]

@@ -9,13 +9,13 @@ that determines it (the compile-cache key).
 from __future__ import annotations
 
 import hashlib
-from pathlib import Path
 from typing import Any
 
 import casadi as ca
 import numpy as np
 
 from ocp.closure import log3
+from ocp.kernels.digest import source_digest
 from ocp.kernels.serial_rhs import _inertias
 from ocp.symbolic import SymbolicModel
 from rcm_pin.control.computed_torque import ComputedTorque
@@ -170,8 +170,7 @@ def _sources() -> str:
     import ocp.symbolic
 
     mods = (ocp.closure, ocp.dynamics, ocp.joints, ocp.kinematics, ocp.symbolic)
-    files = [Path(__file__), *(Path(str(m.__file__)) for m in mods)]
-    return hashlib.sha256(b"".join(f.read_bytes() for f in files)).hexdigest()
+    return source_digest(__file__, mods)
 
 
 _SOURCES = _sources()

@@ -42,7 +42,7 @@ import casadi as ca
 import numpy as np
 
 from ocp.closure import pinocchio_closure
-from ocp.joints import frame_specs, joint_specs
+from ocp.kernels.digest import update_with_tree
 from ocp.symbolic import SymbolicModel
 from rcm_pin.model.loops import Loops
 from rcm_pin.model.mechanism import Mechanism
@@ -161,15 +161,7 @@ def structure_key(mech: Mechanism, n: int) -> str:
     model, loops = mech.model, mech.loops
     assert loops is not None
     h = hashlib.sha256()
-    for j in joint_specs(model):
-        h.update(f"{j.index}|{j.parent}|{j.kind}|{j.idx_q}|{j.idx_v}|{j.mimic}|".encode())
-        h.update(np.array([j.scaling, j.offset, model.nq, model.nv], dtype=float).tobytes())
-        for arr in (j.axis, j.rotation, j.translation):
-            h.update(np.ascontiguousarray(arr, dtype=float).tobytes())
-    for f in frame_specs(model):
-        h.update(f"{f.index}|{f.parent}|".encode())
-        for arr in (f.rotation, f.translation):
-            h.update(np.ascontiguousarray(arr, dtype=float).tobytes())
+    update_with_tree(h, model)
     for c in loops.closures:
         h.update(f"{c.kind}|{c.frame_a_id}|{c.frame_b_id}|{c.rows}|".encode())
     for idx in (loops.drive_q, loops.passive_q, loops.passive_v, loops.wrap_q):

@@ -35,7 +35,6 @@ from __future__ import annotations
 import hashlib
 import threading
 import time
-from pathlib import Path
 from typing import Any
 
 import casadi as ca
@@ -44,6 +43,7 @@ import pinocchio as pin
 
 from ocp.buffered import BufferedFunction
 from ocp.dynamics import cholesky_solve
+from ocp.kernels.digest import source_digest
 from ocp.symbolic import SymbolicModel
 from rcm_pin.control.backends import compiled_unsupported
 from rcm_pin.control.computed_torque import ComputedTorque
@@ -146,8 +146,7 @@ def _sources() -> str:
     import ocp.symbolic
 
     mods = (ocp.dynamics, ocp.joints, ocp.kinematics, ocp.symbolic)
-    files = [Path(__file__), *(Path(str(m.__file__)) for m in mods)]
-    return hashlib.sha256(b"".join(f.read_bytes() for f in files)).hexdigest()
+    return source_digest(__file__, mods)
 
 
 _SOURCES = _sources()
