@@ -31,7 +31,12 @@ SAME_TOL = 1e-7
 
 
 def solve_drives(
-    mech: Mechanism, drives: np.ndarray, q0: np.ndarray, **options: Any
+    mech: Mechanism,
+    drives: np.ndarray,
+    q0: np.ndarray,
+    *,
+    max_iter: int = MAX_ITER,
+    max_step: float = MAX_STEP,
 ) -> tuple[np.ndarray, int, float]:
     """Passive joints for drive values from a starting configuration (Newton).
 
@@ -39,7 +44,7 @@ def solve_drives(
         mech: a closed mechanism.
         drives: drive values (k,) [rad, m].
         q0: full starting configuration (nq,).
-        **options: ``max_iter``, ``max_step`` of :func:`rcm_pin.model.newton.solve_passive`.
+        max_iter, max_step: of :func:`rcm_pin.model.newton.solve_passive`.
 
     Returns:
         (q with passive revolute angles wrapped, iterations, final residual norm [m]).
@@ -50,15 +55,13 @@ def solve_drives(
     loops = mech.require_loops()
     kernel = kernels.closure_newton(mech)
     if kernel is not None:
-        out = kernel(
-            q0,
-            drives,
-            max_iter=options.get("max_iter", MAX_ITER),
-            max_step=options.get("max_step", MAX_STEP),
-        )
+        out = kernel(q0, drives, max_iter=max_iter, max_step=max_step)
         if out is not None:
             return out.q, out.iterations, out.residual
-    return solve_passive(mech.model, mech.data, loops, drives, q0, name=mech.name, **options)
+    return solve_passive(
+        mech.model, mech.data, loops, drives, q0, name=mech.name, max_iter=max_iter,
+        max_step=max_step,
+    )  # fmt: skip
 
 
 def polish(

@@ -13,9 +13,8 @@ of every closed catalogue mechanism) at a fraction of that cost:
   accepts unchanged (every |entry| ≤ the hypot: finite and within the bound); anything
   else takes ``check_q``, its typed errors and their messages. The guess is read, never
   kept (the kernel copies it into its buffers, the numpy Newton into its own array);
-* the solve: the closure Newton kernel directly where there is one (the call of
-  :func:`~rcm_pin.analysis.closed_position.solve_drives`), the numpy Newton where it
-  declines;
+* the solve: :func:`~rcm_pin.analysis.closed_position.solve_drives` (the closure Newton
+  kernel where there is one, the numpy Newton where it declines);
 * per Mechanism (a ``WeakKeyDictionary``, a :class:`Plan`): the limit bounds
   lower − :data:`~rcm_pin.analysis.branch_check.LIMIT_TOL` and upper + ``LIMIT_TOL`` as
   floats, the very floats that :func:`~rcm_pin.analysis.branch_check.within_limits`
@@ -37,10 +36,8 @@ import pinocchio as pin
 from rcm_pin.analysis import closed_position as cp
 from rcm_pin.analysis.branch_check import LIMIT_TOL, placement, within_limits
 from rcm_pin.analysis.results import PositionResult, PositionSolution, one_solution
-from rcm_pin.model import kernels
 from rcm_pin.model.loops import Loops
 from rcm_pin.model.mechanism import Mechanism
-from rcm_pin.model.newton import MAX_ITER, MAX_STEP, solve_passive
 from rcm_pin.rotations import MAX_ABS
 
 #: The methods of the two results.
@@ -104,13 +101,8 @@ def from_guess(mech: Mechanism, loops: Loops, q: Any, q_guess: Any) -> PositionR
     else:
         drives = mech.check_q(q, "drives", loops.dof)
         q0 = mech.check_q(q_guess, "q_guess")
-    kernel = kernels.closure_newton(mech)
-    out = None if kernel is None else kernel(q0, drives, max_iter=MAX_ITER, max_step=MAX_STEP)
+    qs, it, res = cp.solve_drives(mech, drives, q0)
     model, data, output = p.model, mech.data, p.output
-    if out is None:  # no kernel, or it declines: solve_drives' numpy route
-        qs, it, res = solve_passive(model, data, loops, drives, q0, name=mech.name)
-    else:
-        qs, it, res = out
     pin.forwardKinematics(model, data, qs)  # as Mechanism.output_value
     value = output.value(pin.updateFramePlacement(model, data, output.frame_id))
     ql = qs.tolist()
