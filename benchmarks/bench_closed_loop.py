@@ -224,7 +224,8 @@ def bench_call_overhead(mech: rcm_pin.Mechanism, calls: int = 20000) -> dict[str
     """One evaluation of the compiled kernel function, three ways of calling it (part 2)."""
     fun = provider.newton_function(mech)
     home = mech.home
-    args = [home, home[mech.loops.drive_q], np.array([0.5])]  # type: ignore[union-attr]
+    kernel = compiled_kernel(mech)
+    args = [home, home[mech.loops.drive_q], np.array([0.5]), kernel.bounds]  # type: ignore[union-attr]
     buf = BufferedFunction(fun)
     for dst, src in zip(buf.inputs, args):
         dst[:] = src

@@ -1,7 +1,9 @@
 """The hot path of rcm_pin.forward (rcm_pin.analysis.forward_route) gives what the general
 route (forward_reference, the code it replaced) gives: every array bit for bit, the same
 labels, residuals, iteration counts, limit flags and methods, and the same typed errors
-with the same messages; the output values of Output.value bit for bit the former loop's."""
+with the same messages; the output values of Output.value bit for bit the former loop's.
+One exception: where the closure kernel solves ``forward(q_guess=)``, the output value is
+the kernel's (its symbolic forward kinematics), Pinocchio's to rounding (:data:`KERNEL_OUTPUT`)."""
 
 from __future__ import annotations
 
@@ -21,6 +23,10 @@ from rcm_pin.errors import RcmPinError
 from rcm_pin.model import kernels
 from rcm_pin.model.output import _ANGLE, _FLAT, Output
 
+#: The kernel's output value against Pinocchio's forward kinematics at the same q: the same
+#: operations in another order (seen: 1.4e-17 on spherical_3rrr, bit for bit elsewhere)
+#: [m, rad].
+KERNEL_OUTPUT = 1e-15
 #: Every closed catalogue mechanism.
 CLOSED = ("five_bar", "four_bar", "planar_3rrr", "spherical_3rrr", "translational_3ppapa",
           "eye_4dof")  # fmt: skip
@@ -33,8 +39,9 @@ def _result(call):
         return exc
 
 
-def assert_same(new, ref):
-    """Two results (or two typed errors) alike: arrays bit for bit, the rest equal."""
+def assert_same(new, ref, output_tol=0.0):
+    """Two results (or two typed errors) alike: arrays bit for bit (the output values
+    within ``output_tol`` where it is not 0), the rest equal."""
     if isinstance(ref, Exception):
         assert type(new) is type(ref) and str(new) == str(ref)
         return
@@ -44,8 +51,12 @@ def assert_same(new, ref):
     assert new.given.dtype == ref.given.dtype and np.array_equal(new.given, ref.given)
     for a, b in zip(new.solutions, ref.solutions, strict=True):
         assert type(a) is PositionSolution and list(vars(a)) == list(vars(b))
-        assert a.q.tobytes() == b.q.tobytes() and a.output.tobytes() == b.output.tobytes()
+        assert a.q.tobytes() == b.q.tobytes()
         assert a.output.dtype == b.output.dtype and a.output.shape == b.output.shape
+        if output_tol:
+            np.testing.assert_allclose(a.output, b.output, rtol=0, atol=output_tol)
+        else:
+            assert a.output.tobytes() == b.output.tobytes()
         assert (a.mode, a.residual, a.iterations) == (b.mode, b.residual, b.iterations)
         assert type(a.within_limits) is bool and a.within_limits == b.within_limits
 
@@ -65,7 +76,8 @@ def test_the_guess_route_equals_the_general_one(name, use_kernels):
                 drives = home[loops.drive_q] + rng.uniform(-0.1, 0.1, loops.dof)
                 q0 = home + rng.normal(0.0, spread, mech.nq)
                 new = _result(lambda: rcm_pin.forward(mech, drives, q_guess=q0))  # noqa: B023
-                assert_same(new, _result(lambda: forward_reference(mech, drives, q0)))  # noqa: B023
+                ref = _result(lambda: forward_reference(mech, drives, q0))  # noqa: B023
+                assert_same(new, ref, KERNEL_OUTPUT if use_kernels else 0.0)
     finally:
         kernels.set_enabled(previous)
 
@@ -113,7 +125,7 @@ def test_other_inputs_take_the_general_route(m3, kind, which):
     if which == "q_guess" and kind == "none":
         return  # q_guess=None is the all-modes route
     new = _result(lambda: rcm_pin.forward(m3, drives, q_guess=q0))
-    assert_same(new, _result(lambda: forward_reference(m3, drives, q0)))
+    assert_same(new, _result(lambda: forward_reference(m3, drives, q0)), KERNEL_OUTPUT)
 
 
 @pytest.mark.parametrize("name", ["rcm_bevel", "rcm_belt", "rcm_bevel_4dof"])

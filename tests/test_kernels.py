@@ -228,7 +228,7 @@ def test_the_vm_function_is_cached_on_disk(m5, tmp_path, monkeypatch):
     (saved,) = tmp_path.glob("closure_newton_*.casadi")
     loaded = vm_function(m5, key)  # from the file
     home = m5.home
-    args = [home + 0.01, home[m5.loops.drive_q], 0.5]
+    args = [home + 0.01, home[m5.loops.drive_q], 0.5, kernels.warm(m5).bounds]
     for a, b in zip(built.call(args), loaded.call(args), strict=True):
         np.testing.assert_array_equal(np.asarray(a), np.asarray(b))
     saved.write_text("damaged")

@@ -6,7 +6,9 @@ Registered as the entry point ``casadi = "ocp.kernels:provider"`` of the group
 :class:`rcm_pin.model.kernels.KernelProvider`:
 
 * ``closure_newton(mech)``: the drives-fixed closure Newton of
-  :mod:`ocp.kernels.newton_function` (``CHUNK`` unrolled iterations per call), one
+  :mod:`ocp.kernels.newton_function` (``CHUNK`` unrolled iterations per call; with the
+  output value and the limit flag of ``forward``, the Mechanism's limits widened by
+  ``LIMIT_TOL`` as its bounds), one
   :class:`~ocp.kernels.closure_kernel.SharedFunction` per kinematic structure (the key:
   :func:`ocp.kernels.newton_function.structure_key`) shared in memory by every Mechanism
   of that structure: CasADi's virtual machine first (the serialised function cached on
@@ -41,6 +43,7 @@ import numpy as np
 from ocp.kernels.closure_kernel import COMPILE_AFTER, ClosureNewtonKernel, SharedFunction
 from ocp.kernels.newton_function import build, structure_key, supported
 from ocp.kernels.serial_rhs import SerialRHSKernel, serial_rhs
+from rcm_pin.analysis.branch_check import LIMIT_TOL
 from rcm_pin.model.mechanism import Mechanism
 
 if TYPE_CHECKING:
@@ -128,7 +131,10 @@ class CasadiKernels:
         if not supported(mech):
             return None
         shared = self.shared_function(mech)
-        return ClosureNewtonKernel(shared, CHUNK) if same_residual(mech, shared.function) else None
+        if not same_residual(mech, shared.function):
+            return None
+        bounds = np.concatenate([mech.lower - LIMIT_TOL, mech.upper + LIMIT_TOL])
+        return ClosureNewtonKernel(shared, CHUNK, bounds)
 
     def serial_rhs(self, plant: Mechanism, controller: object) -> SerialRHSKernel | None:
         """The compiled right-hand side of ``plant`` under ``controller``, or None where
@@ -173,7 +179,7 @@ def same_residual(mech: Mechanism, fun: ca.Function, tol: float = 1e-9) -> bool:
     loops = mech.loops
     assert loops is not None
     q = np.random.default_rng(0).uniform(-0.5, 0.5, mech.model.nq)
-    rho = float(fun(q, q[loops.drive_q], 0.0)[2][0])
+    rho = float(fun(q, q[loops.drive_q], 0.0, np.zeros(2 * q.size))[2][0])
     rho_pin = float(np.linalg.norm(mech.closure_residual(q)))
     return abs(rho - rho_pin) <= tol * max(rho_pin, 1e-3)
 

@@ -7,6 +7,9 @@ numpy buffers (``Function.buffer()``, about 1 µs of call overhead instead of th
 iterate, until an iterate is below ``RESIDUAL_TOL``, and returns
 
 * the outcome (the same iterate, iteration count and residual as the numpy route), or
+* with :meth:`ClosureNewtonKernel.forward`, the same outcome with the output value and
+  the limit flag of the solution (the function's ``output`` and ``info[3]``; the
+  Mechanism's bounds are written into each buffer once), or
 * None, for the caller to run the numpy route from the same start, when numpy would
   have left its plain solve (a step ≥ 1e3 or NaN: least squares / LM), when no iterate
   within ``min(max_iter, MAX_ITER)`` converges (numpy then either converges later, after
@@ -34,8 +37,9 @@ import casadi as ca
 import numpy as np
 
 from ocp.buffered import BufferedFunction
-from rcm_pin.model.kernels import KernelWarning, NewtonOutcome
+from rcm_pin.model.kernels import KernelWarning
 from rcm_pin.model.newton import RESIDUAL_TOL
+from rcm_pin.model.newton_kernel import ForwardOutcome, NewtonOutcome
 
 #: Iterations the kernel walks before it leaves a start to numpy. Warm starts converge in
 #: 2–5; a longer walk (a far start) goes to numpy, whose iterates the kernel would only
@@ -51,6 +55,8 @@ COMPILE_AFTER = 1000
 COMPILE_MAX_INSTRUCTIONS = 20_000
 #: C compiler flags: -O1, and no fused multiply-adds (the VM's rounding, bit for bit).
 COMPILE_FLAGS = "-O1 -ffp-contract=off"
+#: A NamedTuple from its fields without its keyword-parsing ``__new__``.
+_new = tuple.__new__
 
 
 class SharedFunction:
@@ -91,10 +97,20 @@ class SharedFunction:
 
 
 class ClosureNewtonKernel:
-    """The drives-fixed Newton of one mechanism (module docstring)."""
+    """The drives-fixed Newton of one mechanism (module docstring).
 
-    def __init__(self, shared: SharedFunction, n: int) -> None:
+    Args:
+        shared: the function of the mechanism's structure.
+        n: iterations per call of the function.
+        bounds: (2 nq,) the limit flag's bounds, lower − ``LIMIT_TOL`` then upper +
+            ``LIMIT_TOL`` [rad, m] (default: unbounded, the flag always 1).
+    """
+
+    def __init__(self, shared: SharedFunction, n: int, bounds: np.ndarray | None = None) -> None:
         self.shared, self.n = shared, n
+        nq = shared.function.nnz_in(0)
+        inf = np.full(nq, np.inf)
+        self.bounds = np.concatenate([-inf, inf]) if bounds is None else np.array(bounds, float)
         self._local = threading.local()
 
     def _buffers(self) -> BufferedFunction:
@@ -103,32 +119,58 @@ class ClosureNewtonKernel:
             shared.count()
         fun, local = shared.function, self._local
         if getattr(local, "source", None) is not fun:  # first call here, or just compiled
-            local.buf, local.source = BufferedFunction(fun), fun
-        buf: BufferedFunction = local.buf
-        return buf
+            buf = BufferedFunction(fun)
+            buf.inputs[3][:] = self.bounds
+            local.buf, local.source = buf, fun
+        out: BufferedFunction = local.buf
+        return out
 
-    def __call__(
-        self, q_guess: np.ndarray, drives: np.ndarray, *, max_iter: int, max_step: float
-    ) -> NewtonOutcome | None:
-        """Newton from ``q_guess`` (nq,) with ``drives`` (k,); None: use the numpy route."""
+    def _solve(
+        self, q_guess: np.ndarray, drives: np.ndarray, max_iter: int, max_step: float
+    ) -> tuple[list[np.ndarray], int, float, float] | None:
+        """Chunks from ``q_guess`` until an iterate converges: (the output buffers, the
+        iterations, ρ, the limit flag), or None (the numpy route)."""
         buf = self._buffers()
-        q_in, qa_in, step_in = buf.inputs
-        q_sel, q_last, info = buf.outputs
+        q_in, qa_in, step_in, _ = buf.inputs
+        outputs = buf.outputs
+        q_last, info = outputs[1], outputs[2]
         q_in[:] = q_guess
         qa_in[:] = drives
         step_in[0] = max_step
         done, limit = 0, min(max_iter, MAX_ITER)
         while done <= limit:
             buf.evaluate()
-            rho, it, bad = info.tolist()
+            rho, it, bad, inside = info.tolist()
             if bad:
                 return None
             if rho < RESIDUAL_TOL:
                 total = done + int(it)
-                return NewtonOutcome(q_sel.copy(), total, rho) if total <= limit else None
+                return (outputs, total, rho, inside) if total <= limit else None
             done += self.n
             q_in[:] = q_last
         return None
+
+    def __call__(
+        self, q_guess: np.ndarray, drives: np.ndarray, *, max_iter: int, max_step: float
+    ) -> NewtonOutcome | None:
+        """Newton from ``q_guess`` (nq,) with ``drives`` (k,); None: use the numpy route."""
+        out = self._solve(q_guess, drives, max_iter, max_step)
+        if out is None:
+            return None
+        outputs, total, rho, _ = out
+        return _new(NewtonOutcome, (outputs[0].copy(), total, rho))
+
+    def forward(
+        self, q_guess: np.ndarray, drives: np.ndarray, max_iter: int, max_step: float
+    ) -> ForwardOutcome | None:
+        """:meth:`__call__` with the output value and the limit flag of the solution
+        (:class:`~rcm_pin.model.newton_kernel.ForwardOutcome`)."""
+        out = self._solve(q_guess, drives, max_iter, max_step)
+        if out is None:
+            return None
+        outputs, total, rho, inside = out
+        fields = (outputs[0].copy(), total, rho, outputs[3].copy(), inside == 1.0)
+        return _new(ForwardOutcome, fields)
 
 
 __all__ = [

@@ -1,8 +1,8 @@
 """The closure Newton of :mod:`rcm_pin.model.newton` as one named ``casadi.Function``.
 
-``closure_newton(q, qa, max_step) -> (q_sel, q_last, info)``: drives ``qa`` (k,) written
-into ``q`` (nq,), then ``n`` Newton iterations on the passive joints, unrolled, each the
-numpy route's step (:func:`rcm_pin.model.newton.solve_passive`):
+``closure_newton(q, qa, max_step, bounds) -> (q_sel, q_last, info, output)``: drives
+``qa`` (k,) written into ``q`` (nq,), then ``n`` Newton iterations on the passive joints,
+unrolled, each the numpy route's step (:func:`rcm_pin.model.newton.solve_passive`):
 
     e_i, J_i = e(q_i), J_p(q_i)                 (Pinocchio's residual and Newton Jacobian,
                                                   :func:`ocp.closure.pinocchio_closure`)
@@ -21,11 +21,16 @@ stops there):
 * ``q_sel`` = q_c (q_n without one), passive revolute angles wrapped to [−π, π) exactly as
   :func:`rcm_pin.rotations.wrap_angle` does (``fmod``, then + 2π below 0, bit for bit);
 * ``q_last`` = q_n unwrapped (the start of the next call when ρ_i ≥ tol throughout);
-* ``info`` = [ρ_c (ρ_n), c (n), b]: b counts the steps before c where numpy would take
+* ``info`` = [ρ_c (ρ_n), c (n), b, l]: b counts the steps before c where numpy would take
   another branch than this one: |s_i|_∞ not below 1e3 (NaN included; numpy's least
   squares / Levenberg–Marquardt fallbacks) or, tall, κ = ‖R‖_F ‖R⁻¹‖_F ≥ 1e9 (it bounds
   σ₁/σ_min from above, so below it ``lstsq`` with ``rcond`` = 1e-10 keeps every singular
-  value). b > 0 means: not this kernel's result.
+  value). b > 0 means: not this kernel's result. l = 1 where ``bounds`` (2 nq,) =
+  (lo, hi) hold q_sel: lo ≤ q_sel ≤ hi entry by entry (the caller passes the limits
+  widened by ``LIMIT_TOL``: the very comparisons of ``within_limits``), else 0;
+* ``output`` (size,): the value of ``mech.output`` at q_sel (what ``forward`` reports),
+  from the output frame's placement by the symbolic forward kinematics of
+  :class:`SymbolicModel` (Pinocchio's to rounding); empty without an output.
 
 The selection runs backwards through ``if_else`` (never multiplying by a NaN of an unused
 branch). Euclidean models with m ≥ n_p only; the provider declines others. A compiled
@@ -55,7 +60,7 @@ STEP_LIMIT = 1e3
 #: and its step is the same least-squares step.
 KAPPA_LIMIT = 1e9
 #: Bump when the function's math changes (it is part of the compile-cache key).
-VERSION = "2"
+VERSION = "3"
 
 
 def supported(mech: Mechanism) -> bool:
@@ -143,21 +148,43 @@ def build(mech: Mechanism, n: int, name: str) -> ca.Function:
     wrapped = [sel[i] for i in range(sm.nq)]
     for iq in loops.wrap_q:
         wrapped[int(iq)] = _wrap(sel[int(iq)])
+    q_sel, bounds = ca.vertcat(*wrapped), ca.SX.sym("bounds", 2 * sm.nq)
+    inside = ca.logic_all(
+        ca.vertcat(*(ca.logic_and(bounds[i] <= wrapped[i], wrapped[i] <= bounds[sm.nq + i])
+                     for i in range(sm.nq)))
+    )  # fmt: skip
     return ca.Function(
         name,
-        [q_in, qa, max_step],
-        [ca.vertcat(*wrapped), qs[n], ca.vertcat(rho_sel, it_sel, b)],
-        ["q", "qa", "max_step"],
-        ["q_sel", "q_last", "info"],
+        [q_in, qa, max_step, bounds],
+        [q_sel, qs[n], ca.vertcat(rho_sel, it_sel, b, inside), _output_value(sm, mech, q_sel)],
+        ["q", "qa", "max_step", "bounds"],
+        ["q_sel", "q_last", "info", "output"],
         {"cse": True},
     )
+
+
+def _output_value(sm: SymbolicModel, mech: Mechanism, q: Any) -> Any:
+    """``mech.output``'s value at ``q`` (size,), read from the output frame's placement as
+    :meth:`rcm_pin.model.output.Output.value` reads it (:attr:`~.Output.layout`: the same
+    entries, ``atan2`` of the same two for an angle); empty without an output."""
+    output = mech.output
+    if not output.present:
+        return ca.SX(0, 1)
+    p, r = sm.frame_placement(output.frame_id)(q)
+    h = [r[i // 4, i % 4] if i % 4 < 3 else p[i // 4] for i in range(12)]
+    picks, angles = output.layout
+    value = [h[i] for i in picks]
+    for k, i, j in angles:
+        value[k] = ca.atan2(h[i], h[j])
+    return ca.vertcat(*value)
 
 
 def structure_key(mech: Mechanism, n: int) -> str:
     """A text that determines :func:`build`'s function: what :class:`SymbolicModel` reads
     of the kinematic tree (:func:`ocp.joints.joint_specs`: kinds, axes, placements, mimic
     scalings and offsets, indices; :func:`ocp.joints.frame_specs`), the closures, the
-    drive / passive partition and ``n`` (masses and inertias do not enter)."""
+    drive / passive partition, the output (frame and coordinates) and ``n`` (masses,
+    inertias and joint limits do not enter: the limits are an input)."""
     model, loops = mech.model, mech.loops
     assert loops is not None
     h = hashlib.sha256()
@@ -166,7 +193,8 @@ def structure_key(mech: Mechanism, n: int) -> str:
         h.update(f"{c.kind}|{c.frame_a_id}|{c.frame_b_id}|{c.rows}|".encode())
     for idx in (loops.drive_q, loops.passive_q, loops.passive_v, loops.wrap_q):
         h.update(np.asarray(idx, dtype=np.int64).tobytes() + b"|")
-    h.update(f"n={n}|tol={RESIDUAL_TOL!r}|limit={STEP_LIMIT!r}|v={VERSION}".encode())
+    out = f"{mech.output.frame_id}:{mech.output.coords}" if mech.output.present else "-"
+    h.update(f"n={n}|tol={RESIDUAL_TOL!r}|limit={STEP_LIMIT!r}|out={out}|v={VERSION}".encode())
     return h.hexdigest()
 
 

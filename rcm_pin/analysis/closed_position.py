@@ -52,15 +52,32 @@ def solve_drives(
     Raises:
         SolverError: no convergence (the numpy route's message).
     """
-    loops = mech.require_loops()
+    mech.require_loops()
     kernel = kernels.closure_newton(mech)
     if kernel is not None:
         out = kernel(q0, drives, max_iter=max_iter, max_step=max_step)
         if out is not None:
             return out.q, out.iterations, out.residual
+    return solve_numpy(mech, drives, q0, max_iter=max_iter, max_step=max_step)
+
+
+def solve_numpy(
+    mech: Mechanism,
+    drives: np.ndarray,
+    q0: np.ndarray,
+    *,
+    max_iter: int = MAX_ITER,
+    max_step: float = MAX_STEP,
+) -> tuple[np.ndarray, int, float]:
+    """:func:`solve_drives` on the numpy route only (no kernel asked): where a kernel
+    declined, or with the kernels disabled.
+
+    Raises:
+        SolverError: no convergence.
+    """
     return solve_passive(
-        mech.model, mech.data, loops, drives, q0, name=mech.name, max_iter=max_iter,
-        max_step=max_step,
+        mech.model, mech.data, mech.require_loops(), drives, q0, name=mech.name,
+        max_iter=max_iter, max_step=max_step,
     )  # fmt: skip
 
 
@@ -217,4 +234,5 @@ __all__ = [
     "polish",
     "same",
     "solve_drives",
+    "solve_numpy",
 ]

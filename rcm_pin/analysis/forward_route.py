@@ -6,15 +6,21 @@ the general route (:func:`forward_reference`, kept as the reference) validates i
 twice, evaluates the output and the limit flag through general helpers and builds two
 frozen dataclasses. This route gives the same results (every array bit for bit, the same
 types and errors; ``tests/test_forward_route.py`` compares both on seeded random inputs
-of every closed catalogue mechanism) at a fraction of that cost:
+of every closed catalogue mechanism; one exception below) at a fraction of that cost:
 
 * inputs: float64 arrays of the right shapes whose entries pass one ``math.hypot`` within
   :data:`~rcm_pin.rotations.MAX_ABS` are what :meth:`~rcm_pin.model.mechanism.Mechanism.check_q`
   accepts unchanged (every |entry| ≤ the hypot: finite and within the bound); anything
   else takes ``check_q``, its typed errors and their messages. The guess is read, never
   kept (the kernel copies it into its buffers, the numpy Newton into its own array);
-* the solve: :func:`~rcm_pin.analysis.closed_position.solve_drives` (the closure Newton
-  kernel where there is one, the numpy Newton where it declines);
+* the solve: the closure Newton kernel's ``forward`` call
+  (:class:`~rcm_pin.model.newton_kernel.ClosureNewton`) where there is one: the solve of
+  :func:`~rcm_pin.analysis.closed_position.solve_drives` (the same q, iterations and
+  residual), the output value and the limit flag, in one compiled call. The flag is
+  ``within_limits``'s comparisons on the same floats; the output value comes from the
+  kernel's symbolic forward kinematics, Pinocchio's to rounding (bit for bit on most
+  mechanisms, 1.4e-17 apart on spherical_3rrr: the exception). Where the kernel declines
+  or is disabled, :func:`~rcm_pin.analysis.closed_position.solve_numpy` and Pinocchio;
 * per Mechanism (a ``WeakKeyDictionary``, a :class:`Plan`): the limit bounds
   lower − :data:`~rcm_pin.analysis.branch_check.LIMIT_TOL` and upper + ``LIMIT_TOL`` as
   floats, the very floats that :func:`~rcm_pin.analysis.branch_check.within_limits`
@@ -36,8 +42,10 @@ import pinocchio as pin
 from rcm_pin.analysis import closed_position as cp
 from rcm_pin.analysis.branch_check import LIMIT_TOL, placement, within_limits
 from rcm_pin.analysis.results import PositionResult, PositionSolution, one_solution
+from rcm_pin.model import kernels
 from rcm_pin.model.loops import Loops
 from rcm_pin.model.mechanism import Mechanism
+from rcm_pin.model.newton import MAX_ITER, MAX_STEP
 from rcm_pin.rotations import MAX_ABS
 
 #: The methods of the two results.
@@ -101,12 +109,17 @@ def from_guess(mech: Mechanism, loops: Loops, q: Any, q_guess: Any) -> PositionR
     else:
         drives = mech.check_q(q, "drives", loops.dof)
         q0 = mech.check_q(q_guess, "q_guess")
-    qs, it, res = cp.solve_drives(mech, drives, q0)
-    model, data, output = p.model, mech.data, p.output
-    pin.forwardKinematics(model, data, qs)  # as Mechanism.output_value
-    value = output.value(pin.updateFramePlacement(model, data, output.frame_id))
-    ql = qs.tolist()
-    inside = all(map(le, p.lo, ql)) and all(map(le, ql, p.hi))
+    kernel = kernels.closure_newton(mech)
+    out = None if kernel is None else kernel.forward(q0, drives, MAX_ITER, MAX_STEP)
+    if out is not None:  # the solve, the output value and the limit flag in one call
+        qs, it, res, value, inside = out
+    else:
+        qs, it, res = cp.solve_numpy(mech, drives, q0)
+        model, data, output = p.model, mech.data, p.output
+        pin.forwardKinematics(model, data, qs)  # as Mechanism.output_value
+        value = output.value(pin.updateFramePlacement(model, data, output.frame_id))
+        ql = qs.tolist()
+        inside = all(map(le, p.lo, ql)) and all(map(le, ql, p.hi))
     return one_solution(mech, "forward", drives, GUESS, (qs, value, "guess", res, it, inside))
 
 

@@ -22,7 +22,9 @@ Kernel kinds:
 
 * :meth:`KernelProvider.closure_newton` -> :class:`ClosureNewton`: the drives-fixed
   Newton of :func:`rcm_pin.model.newton.solve_passive` (used by
-  :func:`rcm_pin.analysis.closed_position.solve_drives`).
+  :func:`rcm_pin.analysis.closed_position.solve_drives`), and the same solve with the
+  output value and the limit flag (used by ``rcm_pin.forward(q_guess=)``; the kind's
+  protocol and outcomes: :mod:`rcm_pin.model.newton_kernel`).
 * :meth:`KernelProvider.serial_rhs` -> :class:`SerialRHS`: the whole right-hand side of a
   serial :func:`rcm_pin.control.simulate.simulate` (plant + computed-torque law), cached
   per (plant, controller) pair by :func:`serial_rhs`. The one kind that does not promise
@@ -51,11 +53,12 @@ import warnings
 import weakref
 from collections.abc import Iterator
 from contextlib import contextmanager
-from typing import Any, NamedTuple, Protocol, TypeVar
+from typing import Any, Protocol, TypeVar
 
 import numpy as np
 
 from rcm_pin.model.mechanism import Mechanism
+from rcm_pin.model.newton_kernel import ClosureNewton, ForwardOutcome, NewtonOutcome
 
 #: Entry-point group of the providers.
 GROUP = "rcm_pin.kernels"
@@ -65,27 +68,6 @@ DISABLE_ENV = "RCM_PIN_NO_KERNELS"
 
 class KernelWarning(UserWarning):
     """A provider could not be loaded or could not build a kernel (numpy serves)."""
-
-
-class NewtonOutcome(NamedTuple):
-    """A converged closure Newton: q (nq,) with passive revolute angles wrapped to
-    [−π, π), the iterations taken, the final residual norm [m, rad]."""
-
-    q: np.ndarray
-    iterations: int
-    residual: float
-
-
-class ClosureNewton(Protocol):
-    """Newton on the closure residual with the drives fixed, from a full start."""
-
-    def __call__(
-        self, q_guess: np.ndarray, drives: np.ndarray, *, max_iter: int, max_step: float
-    ) -> NewtonOutcome | None:
-        """The numpy route's converged outcome from ``q_guess`` (nq,) with ``drives`` (k,)
-        [rad, m] (each step clipped to ``max_step``, at most ``max_iter`` steps), or None
-        where the kernel cannot reproduce it (the caller then runs the numpy route)."""
-        ...
 
 
 class SerialRHS(Protocol):
@@ -278,6 +260,7 @@ __all__ = [
     "BoundClosedRHS",
     "ClosedRHS",
     "ClosureNewton",
+    "ForwardOutcome",
     "KernelProvider",
     "KernelWarning",
     "NewtonOutcome",

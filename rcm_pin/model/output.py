@@ -149,6 +149,13 @@ class Output:
                 picks.append(i)
         return np.array(picks, dtype=np.intp), tuple(angles)
 
+    @property
+    def layout(self) -> tuple[tuple[int, ...], tuple[tuple[int, int, int], ...]]:
+        """How :meth:`value` reads a placement's homogeneous matrix h flattened row by row:
+        value[k] = h[picks[k]], except at each angle (k, i, j): atan2(h[i], h[j])."""
+        picks, angles = self._picks
+        return tuple(picks.tolist()), angles
+
     def value(self, oMf: pin.SE3) -> np.ndarray:
         """Value vector (size,) of a frame placement."""
         picks, angles = self._picks
