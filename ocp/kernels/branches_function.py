@@ -10,7 +10,10 @@ to rounding and the decisions are the same):
    a + π, π − a by ``if_else``; the branch table
    :data:`rcm_pin.mechanisms.rcm.ik_tables._TABLE6`; its SO(3) screen); four-DOF: the two
    branches of the vectorised ``ik_pose_4dof`` (:func:`_principal4`; numpy's ``arctan2``
-   ufunc may round an ulp away from the C library's, so q agree to 1e-12 there);
+   ufunc may round an ulp away from the C library's, so q agree to 1e-12 there); in the
+   near-aligned wrist band (SING_TOL < h < 1e-3, where the scalar IK hands the pose to
+   the vectorised code) q6 from q4 ± q6 as the vectorised ``_wrist_near_aligned``
+   (:func:`_near_aligned_q6`; q to 1e-12 there, the same decisions);
 2. :meth:`~rcm_pin.mechanisms.rcm.ik_solutions.IKSolutions.fit_limits`: each angle as q,
    q + 2π or q − 2π where strictly closer to the box (the violation
    |x − min(max(x, lower), upper)|, tie to the earlier);
@@ -24,7 +27,7 @@ Outputs (B = 8 branches, 2 four-DOF): ``q`` (B·n,) the fitted branches row by r
 ``output`` (12 B,) their values row by row, ``info`` (2 B + 1,) = (residuals, limit
 flags, b): b > 0 where the numpy route
 leaves this path (the scalar IK declines: R off its SO(3) screen, |p| ≤ POS_TOL,
-ρ ≤ SING_TOL·|p|, the near-aligned wrist band h < 1e-3; four-DOF: p off the tool z axis,
+ρ ≤ SING_TOL·|p|, the aligned wrist h ≤ SING_TOL; four-DOF: p off the tool z axis,
 ρ ≤ SING_TOL; or a branch misses the target by more than ``BRANCH_TOL``, NaN included),
 and the caller then runs that route.
 """
@@ -57,7 +60,7 @@ from rcm_pin.model.so3_defect import so3_defect
 PI = np.pi
 #: Bump when the function's math changes (part of the structure key, with a digest of
 #: the sources that write it: :func:`_sources`).
-VERSION = "5"
+VERSION = "6"
 
 
 def _variants(a: Any) -> list[Any]:
@@ -102,10 +105,35 @@ def _principal(c: list[Any], wrist: str) -> tuple[list[Any], Any]:
         a5, a6 = ca.atan2(h, w2j), ca.atan2(w2m, -w2k)
     else:
         a5, a6 = ca.atan2(-w2j, h), ca.atan2(w2m, w2k)
+    a6 = ca.if_else(h < _NEAR, _near_aligned_q6(c, a1, a2, a4, wrist), a6)
     values = [*_variants(a1), *_variants(a2), r, -r, r, r]
     values += [*_variants(a4), *_variants(a5), *_variants(a6)]
-    bad = ca.logic_or(ca.logic_or(r <= POS_TOL, rho <= SING_TOL * r), h < _NEAR)
+    bad = ca.logic_or(ca.logic_or(r <= POS_TOL, rho <= SING_TOL * r), h <= SING_TOL)
     return values, ca.logic_or(bad, _off_screen(c))
+
+
+def _near_aligned_q6(c: list[Any], a1: Any, a2: Any, a4: Any, wrist: str) -> Any:
+    """q6 in the near-aligned wrist band (h < 1e-3) from the well-conditioned q4 ± q6:
+    :func:`rcm_pin.mechanisms.rcm.analytic_ik._wrist_near_aligned` (R_w = (Rx(q1)
+    Ry(q2))ᵀ R from cos and sin of the principal q1, q2, its entries summed in matmul's
+    order; numpy's ufuncs may round an ulp away from the C library's, so q6 agrees to
+    1e-12 there)."""
+    cx, sx, cy, sy = ca.cos(a1), ca.sin(a1), ca.cos(a2), ca.sin(a2)
+    m = [[cy, 0.0, sy], [sx * sy, cx, -sx * cy], [-cx * sy, sx, cx * cy]]  # Rx(q1) Ry(q2)
+
+    def w(i: int, j: int) -> Any:  # R_w[i, j] = Σ_k m[k][i] R[k, j]
+        return m[0][i] * c[j] + m[1][i] * c[4 + j] + m[2][i] * c[8 + j]
+
+    if wrist == "zyz":
+        plus = w(2, 2) >= 0.0  # near q5 = 0: q4 + q6 well determined, else q4 − q6
+        s = ca.atan2(w(1, 0) - w(0, 1), w(0, 0) + w(1, 1))
+        d = ca.atan2(-(w(1, 0) + w(0, 1)), w(1, 1) - w(0, 0))
+    else:
+        plus = w(2, 0) >= 0.0  # s5 = −Rw20 ≤ 0: q4 + q6 well determined
+        s = ca.atan2(-(w(1, 2) + w(0, 1)), w(1, 1) - w(0, 2))
+        d = ca.atan2(w(1, 2) - w(0, 1), w(1, 1) + w(0, 2))
+    q6 = ca.if_else(plus, s - a4, a4 - d)
+    return q6 - 2.0 * PI * ca.ceil((q6 - PI) / (2.0 * PI))  # wrap to (−π, π]
 
 
 def _principal4(c: list[Any]) -> tuple[list[Any], Any]:
@@ -228,12 +256,14 @@ def _sources() -> str:
     import ocp.closure
     import ocp.kinematics
     import ocp.symbolic
+    import rcm_pin.mechanisms.rcm.analytic_ik
     import rcm_pin.mechanisms.rcm.ik_scalar
     import rcm_pin.mechanisms.rcm.ik_tables
     import rcm_pin.model.so3_defect
 
-    mods = (ocp.closure, ocp.kinematics, ocp.symbolic, rcm_pin.mechanisms.rcm.ik_scalar,
-            rcm_pin.mechanisms.rcm.ik_tables, rcm_pin.model.so3_defect)  # fmt: skip
+    mods = (ocp.closure, ocp.kinematics, ocp.symbolic, rcm_pin.mechanisms.rcm.analytic_ik,
+            rcm_pin.mechanisms.rcm.ik_scalar, rcm_pin.mechanisms.rcm.ik_tables,
+            rcm_pin.model.so3_defect)  # fmt: skip
     return source_digest(__file__, mods)
 
 
