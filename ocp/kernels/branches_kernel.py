@@ -11,6 +11,7 @@ the numpy route handles otherwise (:mod:`.branches_function`).
 from __future__ import annotations
 
 import threading
+from collections.abc import Callable
 
 import numpy as np
 
@@ -31,6 +32,8 @@ LABELS = tuple(f"branch_{b}" for b in range(8))
 _ONE = (1.0).__eq__
 #: A NamedTuple from its fields without its keyword-parsing ``__new__``.
 _new = tuple.__new__
+#: A thread's bound function: its evaluation, its value input, the q, output, info views.
+_Bound = tuple[Callable[[], None], np.ndarray, np.ndarray, np.ndarray, np.ndarray]
 
 
 class SerialBranchesKernel:
@@ -43,8 +46,9 @@ class SerialBranchesKernel:
         self.limits = np.concatenate([lower, upper]).astype(float)
         self._local = threading.local()
 
-    def _buffers(self) -> tuple[BufferedFunction, np.ndarray, np.ndarray, np.ndarray]:
-        """This thread's buffers: the function's, and (8, n) / (8, 12) views of q, output."""
+    def _buffers(self) -> _Bound:
+        """This thread's bound function: its evaluation, its value input and (8, n) /
+        (8, 12) / (2·8 + 1,) views of q, output and info."""
         shared = self.shared
         if shared.compile_after is not None:
             shared.count()
@@ -53,17 +57,19 @@ class SerialBranchesKernel:
             buf = BufferedFunction(fun)
             buf.inputs[1][:] = self.limits
             q, out, info = buf.outputs
-            local.bound = buf, q.reshape(self.nb, self.n), out.reshape(self.nb, 12), info
+            nb = self.nb
+            local.bound = (buf.evaluate, buf.inputs[0], q.reshape(nb, self.n),
+                           out.reshape(nb, 12), info)  # fmt: skip
             local.source = fun
-        bound: tuple[BufferedFunction, np.ndarray, np.ndarray, np.ndarray] = local.bound
+        bound: _Bound = local.bound
         return bound
 
     def __call__(self, value: np.ndarray) -> BranchArrays | None:
         """The checked branches (eight; four-DOF two) of a pose value (12,), or None (the
         numpy route)."""
-        buf, q, out, info = self._buffers()
-        buf.inputs[0][:] = value
-        buf.evaluate()
+        evaluate, given, q, out, info = self._buffers()
+        given[:] = value
+        evaluate()
         flags = info.tolist()
         if flags[-1]:
             return None

@@ -137,10 +137,8 @@ def inverse(
     kernel = serial_branches(mech) if plain else None
     fast = None if kernel is None else kernel(value)  # None: the kernel declines
     if fast is not None:  # every branch checked in one compiled call (the same results)
-        sols = closed_form_solutions(
-            fast.q, fast.output, fast.labels, fast.residual, fast.within_limits
-        )
-        method = fast.method
+        qs, outs, residuals, flags, labels, method = fast
+        sols = closed_form_solutions(qs, outs, labels, residuals, flags)
     else:
         sols, method = _solutions(mech, output, value, starts)
     if not sols:
