@@ -24,8 +24,9 @@ to rounding and the decisions are the same):
    flag lower − 1e-12 ≤ q ≤ upper + 1e-12.
 
 Outputs (B = 8 branches, 2 four-DOF): ``q`` (B·n,) the fitted branches row by row,
-``output`` (12 B,) their values row by row, ``info`` (2 B + 1,) = (residuals, limit
-flags, b): b > 0 where the numpy route
+``output`` (12 B,) their values row by row, ``info`` (B + 2,) = (residuals, limit
+flags, b), the limit flags as one number (Σ 2^i over the branches i inside the limits,
+exact in floating point), b > 0 where the numpy route
 leaves this path (the scalar IK declines: R off its SO(3) screen, |p| ≤ POS_TOL,
 ρ ≤ SING_TOL·|p|, the aligned wrist h ≤ SING_TOL; four-DOF: p off the tool z axis,
 ρ ≤ SING_TOL; or a branch misses the target by more than ``BRANCH_TOL``, NaN included),
@@ -212,8 +213,8 @@ def build(mech: Mechanism, name: str) -> ca.Function:
     variants, bad = _principal4(c) if wrist is None else _principal(c, wrist)
     sm = SymbolicModel(mech.model)
     fk = sm.frame_placement(mech.output.frame_id)
-    qs, outs, res, inside = [], [], [], []
-    for branch in _TABLE4 if wrist is None else _TABLE6[wrist]:
+    qs, outs, res, inside = [], [], [], 0.0
+    for b, branch in enumerate(_TABLE4 if wrist is None else _TABLE6[wrist]):
         q = _fit([variants[4 * i + int(v)] for i, v in enumerate(branch)], lo, up)
         p, rot = fk(_to_pin(mech, ca.vertcat(*q), ca.SX.zeros(n))[0])
         e = ca.vertcat(p - p_t, log3(ca.mtimes(rot, r_t.T)))
@@ -222,12 +223,12 @@ def build(mech: Mechanism, name: str) -> ca.Function:
         outs += [p[0], p[1], p[2], *(rot[i, j] for i in range(3) for j in range(3))]
         res.append(r_b)
         ok = [ca.logic_and(lo[i] - LIMIT_TOL <= q[i], up[i] + LIMIT_TOL >= q[i]) for i in range(n)]
-        inside.append(ca.logic_all(ca.vertcat(*ok)))
+        inside += ca.if_else(ca.logic_all(ca.vertcat(*ok)), 2.0**b, 0.0)  # bit b: inside
         bad = ca.logic_or(bad, ca.logic_not(r_b <= BRANCH_TOL))
     return ca.Function(
         name,
         [value, limits],
-        [ca.vertcat(*qs), ca.vertcat(*outs), ca.vertcat(*res, *inside, bad)],
+        [ca.vertcat(*qs), ca.vertcat(*outs), ca.vertcat(*res, inside, bad)],
         ["value", "limits"],
         ["q", "output", "info"],
         {"cse": True},

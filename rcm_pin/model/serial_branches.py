@@ -16,6 +16,7 @@ from __future__ import annotations
 import threading
 import warnings
 import weakref
+from collections.abc import Sequence
 from typing import NamedTuple, Protocol
 
 import numpy as np
@@ -32,7 +33,7 @@ class BranchArrays(NamedTuple):
     q: np.ndarray
     output: np.ndarray
     residual: list[float]
-    within_limits: list[bool]
+    within_limits: Sequence[bool]
     labels: tuple[str, ...]
     method: str
 
