@@ -172,15 +172,22 @@ def test_the_kernel_declines_degenerate_poses(mech):
     assert_same(fast, slow)
 
 
-def test_a_rotation_off_the_scalar_screen_declines(mech):
-    """A value whose R is off SO(3) by more than the scalar IK's screen (1e-12): the
-    scalar IK sends it to the vectorised code, the kernel declines."""
+@pytest.mark.parametrize("delta", [1e-13, 1e-11])
+def test_a_rotation_off_the_keep_screen_declines(mech, delta):
+    """R off SO(3) by more than plain_pose's KEEP_TOL (1e-14; the scalar IK's screen,
+    1e-12, is wider): the kernel declines (inverse leaves that test to it), and a matrix
+    target then takes the projected value as without a kernel."""
     kernel = serial_branches.warm(mech)
-    value = plain_pose(mech.output, rcm_pin.tool_pose(mech, mech.configurations["mid"]))
+    T = rcm_pin.tool_pose(mech, mech.configurations["mid"])
+    value = plain_pose(mech.output, T)
     assert kernel(value) is not None
     off = value.copy()
-    off[3] += 1e-11
+    off[3] += delta
     assert kernel(off) is None
+    T[0, 0] += delta
+    assert plain_pose(mech.output, T) is None
+    assert kernel(plain_pose(mech.output, T, screen=False)) is None
+    assert_same(*_routes(mech, T))
 
 
 @pytest.mark.parametrize("name", ["rcm_two_mass", "panda", "five_bar"])

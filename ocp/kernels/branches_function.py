@@ -27,7 +27,9 @@ Outputs (B = 8 branches, 2 four-DOF): ``q`` (B·n,) the fitted branches row by r
 ``output`` (12 B,) their values row by row, ``info`` (B + 2,) = (residuals, limit
 flags, b), the limit flags as one number (Σ 2^i over the branches i inside the limits,
 exact in floating point), b > 0 where the numpy route
-leaves this path (the scalar IK declines: R off its SO(3) screen, |p| ≤ POS_TOL,
+leaves this path (R farther from SO(3) than ``KEEP_TOL``, the test of
+:func:`~rcm_pin.analysis.pose_target.plain_pose`, which ``inverse`` leaves to the kernel
+and which covers the scalar IK's screen; the scalar IK declines: |p| ≤ POS_TOL,
 ρ ≤ SING_TOL·|p|, the aligned wrist h ≤ SING_TOL; four-DOF: p off the tool z axis,
 ρ ≤ SING_TOL; or a branch misses the target by more than ``BRANCH_TOL``, NaN included),
 and the caller then runs that route.
@@ -46,9 +48,9 @@ from ocp.kernels.digest import source_digest, update_with_tree
 from ocp.kernels.serial_rhs import _to_pin
 from ocp.symbolic import SymbolicModel
 from rcm_pin.analysis.branch_check import BRANCH_TOL, LIMIT_TOL
+from rcm_pin.analysis.pose_target import KEEP_TOL
 from rcm_pin.mechanisms.rcm.ik_tables import (
     _NEAR,
-    _SCREEN,
     _TABLE4,
     _TABLE6,
     AXIS_TOL,
@@ -158,10 +160,13 @@ def _principal4(c: list[Any]) -> tuple[list[Any], Any]:
 
 
 def _off_screen(c: list[Any]) -> Any:
-    """Whether :func:`.ik_scalar._screen` sends R to the SVD projection (first-order
-    distance from SO(3) above 1e-12, or det R ≤ 0): the scalar IK declines there."""
+    """Whether :func:`rcm_pin.analysis.pose_target.plain_pose` would send R to the SVD
+    projection (first-order distance from SO(3) above KEEP_TOL, or det R ≤ 0; the same
+    arithmetic, so the same decision: ``inverse`` leaves that test to the kernel). It
+    covers the scalar IK's screen (:func:`.ik_scalar._screen`, 1e-12), where the numpy
+    route projects too."""
     sq, det = so3_defect([c[i] for i in (0, 1, 2, 4, 5, 6, 8, 9, 10)])
-    return ca.logic_not(ca.logic_and(0.5 * ca.sqrt(sq) <= _SCREEN, det > 0.0))
+    return ca.logic_not(ca.logic_and(0.5 * ca.sqrt(sq) <= KEEP_TOL, det > 0.0))
 
 
 def _fit(q: list[Any], lo: Any, up: Any) -> list[Any]:
@@ -246,7 +251,7 @@ def structure_key(mech: Mechanism) -> str:
     update_with_tree(h, model)
     for idx in (mech.q_index, mech.continuous):
         h.update(np.asarray(idx, dtype=np.int64).tobytes() + b"|")
-    tols = (POS_TOL, SING_TOL, AXIS_TOL, _NEAR, _SCREEN, LIMIT_TOL, BRANCH_TOL)
+    tols = (POS_TOL, SING_TOL, AXIS_TOL, _NEAR, KEEP_TOL, LIMIT_TOL, BRANCH_TOL)
     h.update(f"{mech.output.frame_id}|{wrist_type(mech)}|{tols!r}|v={VERSION}".encode())
     h.update(_sources().encode())
     return h.hexdigest()

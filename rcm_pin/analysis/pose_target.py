@@ -38,9 +38,11 @@ _ROTATION = itemgetter(0, 1, 2, 4, 5, 6, 8, 9, 10)
 _VALUE = np.array([3, 7, 11, 0, 1, 2, 4, 5, 6, 8, 9, 10])
 
 
-def plain_pose(output: Output, target: Any) -> np.ndarray | None:
+def plain_pose(output: Output, target: Any, screen: bool = True) -> np.ndarray | None:
     """The value vector (x, y, z, R row by row) of a plain pose matrix, or None when the
-    target needs the general route (module docstring)."""
+    target needs the general route (module docstring). ``screen=False`` skips the test of
+    R (distance from SO(3) ≤ KEEP_TOL, det R > 0) for a caller that makes it itself: the
+    ``serial_branches`` kernel declines such an R (the same arithmetic, the same bits)."""
     if (
         output.coords != POSE
         or type(target) is not np.ndarray
@@ -59,9 +61,10 @@ def plain_pose(output: Output, target: Any) -> np.ndarray | None:
         return None
     if not math.hypot(*c) <= MAX_ABS:  # NaN and inf fail too
         return None
-    sq, det = so3_defect(_ROTATION(c))
-    if not (0.5 * math.sqrt(sq) <= KEEP_TOL and det > 0.0):
-        return None
+    if screen:
+        sq, det = so3_defect(_ROTATION(c))
+        if not (0.5 * math.sqrt(sq) <= KEEP_TOL and det > 0.0):
+            return None
     return flat[_VALUE]  # a new array (fancy indexing copies): the same bits as c
 
 
