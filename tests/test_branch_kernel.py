@@ -1,7 +1,8 @@
 """The serial branch kernel (rcm_pin.model.serial_branches, provider ocp.kernels) gives
 ``rcm_pin.inverse`` of a six-DOF RCM pose exactly what the numpy route gives: the same
 branches in the same order (q bit for bit: the kernel repeats the scalar IK's and
-fit_limits' operations, compiled without fused multiply-adds), the same limit flags, the
+fit_limits' operations, compiled without fused multiply-adds; to 1e-12 in the
+near-aligned wrist band, tests/test_branch_kernel_near.py), the same limit flags, the
 output values and residuals to 1e-12 (CasADi's forward kinematics rounds differently
 from Pinocchio's), and the same typed errors (the kernel declines, numpy raises)."""
 
