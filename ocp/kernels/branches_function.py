@@ -10,7 +10,10 @@ to rounding and the decisions are the same):
    a + π, π − a by ``if_else``; the branch table
    :data:`rcm_pin.mechanisms.rcm.ik_tables._TABLE6`; its SO(3) screen); four-DOF: the two
    branches of the vectorised ``ik_pose_4dof`` (:func:`_principal4`; numpy's ``arctan2``
-   ufunc may round an ulp away from the C library's, so q agree to 1e-12 there);
+   ufunc may round an ulp away from the C library's, so q agree to 1e-12 there); in the
+   near-aligned wrist band (SING_TOL < h < 1e-3, where the scalar IK hands the pose to
+   the vectorised code) q6 from q4 ± q6 as the vectorised ``_wrist_near_aligned``
+   (:func:`_near_aligned_q6`; q to 1e-12 there, the same decisions);
 2. :meth:`~rcm_pin.mechanisms.rcm.ik_solutions.IKSolutions.fit_limits`: each angle as q,
    q + 2π or q − 2π where strictly closer to the box (the violation
    |x − min(max(x, lower), upper)|, tie to the earlier);
@@ -21,10 +24,13 @@ to rounding and the decisions are the same):
    flag lower − 1e-12 ≤ q ≤ upper + 1e-12.
 
 Outputs (B = 8 branches, 2 four-DOF): ``q`` (B·n,) the fitted branches row by row,
-``output`` (12 B,) their values row by row, ``info`` (2 B + 1,) = (residuals, limit
-flags, b): b > 0 where the numpy route
-leaves this path (the scalar IK declines: R off its SO(3) screen, |p| ≤ POS_TOL,
-ρ ≤ SING_TOL·|p|, the near-aligned wrist band h < 1e-3; four-DOF: p off the tool z axis,
+``output`` (12 B,) their values row by row, ``info`` (B + 2,) = (residuals, limit
+flags, b), the limit flags as one number (Σ 2^i over the branches i inside the limits,
+exact in floating point), b > 0 where the numpy route
+leaves this path (R farther from SO(3) than ``KEEP_TOL``, the test of
+:func:`~rcm_pin.analysis.pose_target.plain_pose`, which ``inverse`` leaves to the kernel
+and which covers the scalar IK's screen; the scalar IK declines: |p| ≤ POS_TOL,
+ρ ≤ SING_TOL·|p|, the aligned wrist h ≤ SING_TOL; four-DOF: p off the tool z axis,
 ρ ≤ SING_TOL; or a branch misses the target by more than ``BRANCH_TOL``, NaN included),
 and the caller then runs that route.
 """
@@ -42,9 +48,9 @@ from ocp.kernels.digest import source_digest, update_with_tree
 from ocp.kernels.serial_rhs import _to_pin
 from ocp.symbolic import SymbolicModel
 from rcm_pin.analysis.branch_check import BRANCH_TOL, LIMIT_TOL
+from rcm_pin.analysis.pose_target import KEEP_TOL
 from rcm_pin.mechanisms.rcm.ik_tables import (
     _NEAR,
-    _SCREEN,
     _TABLE4,
     _TABLE6,
     AXIS_TOL,
@@ -57,7 +63,7 @@ from rcm_pin.model.so3_defect import so3_defect
 PI = np.pi
 #: Bump when the function's math changes (part of the structure key, with a digest of
 #: the sources that write it: :func:`_sources`).
-VERSION = "5"
+VERSION = "6"
 
 
 def _variants(a: Any) -> list[Any]:
@@ -102,10 +108,35 @@ def _principal(c: list[Any], wrist: str) -> tuple[list[Any], Any]:
         a5, a6 = ca.atan2(h, w2j), ca.atan2(w2m, -w2k)
     else:
         a5, a6 = ca.atan2(-w2j, h), ca.atan2(w2m, w2k)
+    a6 = ca.if_else(h < _NEAR, _near_aligned_q6(c, a1, a2, a4, wrist), a6)
     values = [*_variants(a1), *_variants(a2), r, -r, r, r]
     values += [*_variants(a4), *_variants(a5), *_variants(a6)]
-    bad = ca.logic_or(ca.logic_or(r <= POS_TOL, rho <= SING_TOL * r), h < _NEAR)
+    bad = ca.logic_or(ca.logic_or(r <= POS_TOL, rho <= SING_TOL * r), h <= SING_TOL)
     return values, ca.logic_or(bad, _off_screen(c))
+
+
+def _near_aligned_q6(c: list[Any], a1: Any, a2: Any, a4: Any, wrist: str) -> Any:
+    """q6 in the near-aligned wrist band (h < 1e-3) from the well-conditioned q4 ± q6:
+    :func:`rcm_pin.mechanisms.rcm.analytic_ik._wrist_near_aligned` (R_w = (Rx(q1)
+    Ry(q2))ᵀ R from cos and sin of the principal q1, q2, its entries summed in matmul's
+    order; numpy's ufuncs may round an ulp away from the C library's, so q6 agrees to
+    1e-12 there)."""
+    cx, sx, cy, sy = ca.cos(a1), ca.sin(a1), ca.cos(a2), ca.sin(a2)
+    m = [[cy, 0.0, sy], [sx * sy, cx, -sx * cy], [-cx * sy, sx, cx * cy]]  # Rx(q1) Ry(q2)
+
+    def w(i: int, j: int) -> Any:  # R_w[i, j] = Σ_k m[k][i] R[k, j]
+        return m[0][i] * c[j] + m[1][i] * c[4 + j] + m[2][i] * c[8 + j]
+
+    if wrist == "zyz":
+        plus = w(2, 2) >= 0.0  # near q5 = 0: q4 + q6 well determined, else q4 − q6
+        s = ca.atan2(w(1, 0) - w(0, 1), w(0, 0) + w(1, 1))
+        d = ca.atan2(-(w(1, 0) + w(0, 1)), w(1, 1) - w(0, 0))
+    else:
+        plus = w(2, 0) >= 0.0  # s5 = −Rw20 ≤ 0: q4 + q6 well determined
+        s = ca.atan2(-(w(1, 2) + w(0, 1)), w(1, 1) - w(0, 2))
+        d = ca.atan2(w(1, 2) - w(0, 1), w(1, 1) + w(0, 2))
+    q6 = ca.if_else(plus, s - a4, a4 - d)
+    return q6 - 2.0 * PI * ca.ceil((q6 - PI) / (2.0 * PI))  # wrap to (−π, π]
 
 
 def _principal4(c: list[Any]) -> tuple[list[Any], Any]:
@@ -129,10 +160,13 @@ def _principal4(c: list[Any]) -> tuple[list[Any], Any]:
 
 
 def _off_screen(c: list[Any]) -> Any:
-    """Whether :func:`.ik_scalar._screen` sends R to the SVD projection (first-order
-    distance from SO(3) above 1e-12, or det R ≤ 0): the scalar IK declines there."""
+    """Whether :func:`rcm_pin.analysis.pose_target.plain_pose` would send R to the SVD
+    projection (first-order distance from SO(3) above KEEP_TOL, or det R ≤ 0; the same
+    arithmetic, so the same decision: ``inverse`` leaves that test to the kernel). It
+    covers the scalar IK's screen (:func:`.ik_scalar._screen`, 1e-12), where the numpy
+    route projects too."""
     sq, det = so3_defect([c[i] for i in (0, 1, 2, 4, 5, 6, 8, 9, 10)])
-    return ca.logic_not(ca.logic_and(0.5 * ca.sqrt(sq) <= _SCREEN, det > 0.0))
+    return ca.logic_not(ca.logic_and(0.5 * ca.sqrt(sq) <= KEEP_TOL, det > 0.0))
 
 
 def _fit(q: list[Any], lo: Any, up: Any) -> list[Any]:
@@ -184,8 +218,8 @@ def build(mech: Mechanism, name: str) -> ca.Function:
     variants, bad = _principal4(c) if wrist is None else _principal(c, wrist)
     sm = SymbolicModel(mech.model)
     fk = sm.frame_placement(mech.output.frame_id)
-    qs, outs, res, inside = [], [], [], []
-    for branch in _TABLE4 if wrist is None else _TABLE6[wrist]:
+    qs, outs, res, inside = [], [], [], 0.0
+    for b, branch in enumerate(_TABLE4 if wrist is None else _TABLE6[wrist]):
         q = _fit([variants[4 * i + int(v)] for i, v in enumerate(branch)], lo, up)
         p, rot = fk(_to_pin(mech, ca.vertcat(*q), ca.SX.zeros(n))[0])
         e = ca.vertcat(p - p_t, log3(ca.mtimes(rot, r_t.T)))
@@ -194,12 +228,12 @@ def build(mech: Mechanism, name: str) -> ca.Function:
         outs += [p[0], p[1], p[2], *(rot[i, j] for i in range(3) for j in range(3))]
         res.append(r_b)
         ok = [ca.logic_and(lo[i] - LIMIT_TOL <= q[i], up[i] + LIMIT_TOL >= q[i]) for i in range(n)]
-        inside.append(ca.logic_all(ca.vertcat(*ok)))
+        inside += ca.if_else(ca.logic_all(ca.vertcat(*ok)), 2.0**b, 0.0)  # bit b: inside
         bad = ca.logic_or(bad, ca.logic_not(r_b <= BRANCH_TOL))
     return ca.Function(
         name,
         [value, limits],
-        [ca.vertcat(*qs), ca.vertcat(*outs), ca.vertcat(*res, *inside, bad)],
+        [ca.vertcat(*qs), ca.vertcat(*outs), ca.vertcat(*res, inside, bad)],
         ["value", "limits"],
         ["q", "output", "info"],
         {"cse": True},
@@ -217,7 +251,7 @@ def structure_key(mech: Mechanism) -> str:
     update_with_tree(h, model)
     for idx in (mech.q_index, mech.continuous):
         h.update(np.asarray(idx, dtype=np.int64).tobytes() + b"|")
-    tols = (POS_TOL, SING_TOL, AXIS_TOL, _NEAR, _SCREEN, LIMIT_TOL, BRANCH_TOL)
+    tols = (POS_TOL, SING_TOL, AXIS_TOL, _NEAR, KEEP_TOL, LIMIT_TOL, BRANCH_TOL)
     h.update(f"{mech.output.frame_id}|{wrist_type(mech)}|{tols!r}|v={VERSION}".encode())
     h.update(_sources().encode())
     return h.hexdigest()
@@ -228,12 +262,14 @@ def _sources() -> str:
     import ocp.closure
     import ocp.kinematics
     import ocp.symbolic
+    import rcm_pin.mechanisms.rcm.analytic_ik
     import rcm_pin.mechanisms.rcm.ik_scalar
     import rcm_pin.mechanisms.rcm.ik_tables
     import rcm_pin.model.so3_defect
 
-    mods = (ocp.closure, ocp.kinematics, ocp.symbolic, rcm_pin.mechanisms.rcm.ik_scalar,
-            rcm_pin.mechanisms.rcm.ik_tables, rcm_pin.model.so3_defect)  # fmt: skip
+    mods = (ocp.closure, ocp.kinematics, ocp.symbolic, rcm_pin.mechanisms.rcm.analytic_ik,
+            rcm_pin.mechanisms.rcm.ik_scalar, rcm_pin.mechanisms.rcm.ik_tables,
+            rcm_pin.model.so3_defect)  # fmt: skip
     return source_digest(__file__, mods)
 
 

@@ -11,6 +11,7 @@ the numpy route handles otherwise (:mod:`.branches_function`).
 from __future__ import annotations
 
 import threading
+from collections.abc import Callable
 
 import numpy as np
 
@@ -27,10 +28,13 @@ from rcm_pin.model.serial_branches import BranchArrays
 COMPILE_AFTER = CLOSURE_COMPILE_AFTER
 #: The branch labels of the family's position solver (``RcmPosition``), in order.
 LABELS = tuple(f"branch_{b}" for b in range(8))
-#: 1.0 -> True, 0.0 -> False (the function's limit flags as bools).
-_ONE = (1.0).__eq__
+#: Per branch count B, the limit flags of every code Σ 2^i (branch i inside), as bools.
+_INSIDE = {nb: tuple(tuple(bool(code >> i & 1) for i in range(nb)) for code in range(2**nb))
+           for nb in (2, 8)}  # fmt: skip
 #: A NamedTuple from its fields without its keyword-parsing ``__new__``.
 _new = tuple.__new__
+#: A thread's bound function: its evaluation, its value input, the q, output, info views.
+_Bound = tuple[Callable[[], None], np.ndarray, np.ndarray, np.ndarray, np.ndarray]
 
 
 class SerialBranchesKernel:
@@ -39,12 +43,13 @@ class SerialBranchesKernel:
     def __init__(self, shared: SharedFunction, lower: np.ndarray, upper: np.ndarray) -> None:
         self.shared, self.n = shared, len(lower)
         self.nb = nb = 8 if self.n == 6 else 2  # branches (six-DOF, four-DOF)
-        self.labels, self._flags = LABELS[:nb], slice(nb, 2 * nb)
+        self.labels, self._inside = LABELS[:nb], _INSIDE[nb]
         self.limits = np.concatenate([lower, upper]).astype(float)
         self._local = threading.local()
 
-    def _buffers(self) -> tuple[BufferedFunction, np.ndarray, np.ndarray, np.ndarray]:
-        """This thread's buffers: the function's, and (8, n) / (8, 12) views of q, output."""
+    def _buffers(self) -> _Bound:
+        """This thread's bound function: its evaluation, its value input and (8, n) /
+        (8, 12) / (8 + 2,) views of q, output and info (four-DOF: 2 branches)."""
         shared = self.shared
         if shared.compile_after is not None:
             shared.count()
@@ -53,21 +58,24 @@ class SerialBranchesKernel:
             buf = BufferedFunction(fun)
             buf.inputs[1][:] = self.limits
             q, out, info = buf.outputs
-            local.bound = buf, q.reshape(self.nb, self.n), out.reshape(self.nb, 12), info
+            nb = self.nb
+            local.bound = (buf.evaluate, buf.inputs[0], q.reshape(nb, self.n),
+                           out.reshape(nb, 12), info)  # fmt: skip
             local.source = fun
-        bound: tuple[BufferedFunction, np.ndarray, np.ndarray, np.ndarray] = local.bound
+        bound: _Bound = local.bound
         return bound
 
     def __call__(self, value: np.ndarray) -> BranchArrays | None:
         """The checked branches (eight; four-DOF two) of a pose value (12,), or None (the
         numpy route)."""
-        buf, q, out, info = self._buffers()
-        buf.inputs[0][:] = value
-        buf.evaluate()
+        evaluate, given, q, out, info = self._buffers()
+        given[:] = value
+        evaluate()
         flags = info.tolist()
         if flags[-1]:
             return None
-        nb, inside = self.nb, list(map(_ONE, flags[self._flags]))
+        nb = self.nb
+        inside = self._inside[int(flags[nb])]
         return _new(BranchArrays, (q.copy(), out.copy(), flags[:nb], inside, self.labels, METHOD))
 
 

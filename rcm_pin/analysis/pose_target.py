@@ -16,6 +16,7 @@ general route's by less than that (tests/test_branch_check.py compares both).
 from __future__ import annotations
 
 import math
+from operator import itemgetter
 from typing import Any
 
 import numpy as np
@@ -31,9 +32,17 @@ from rcm_pin.rotations import LAST_ROW_TOL, MAX_ABS
 KEEP_TOL = 1e-14
 
 
-def plain_pose(output: Output, target: Any) -> np.ndarray | None:
+#: R row by row from the entries of a 3×4 / 4×4 matrix (row-major).
+_ROTATION = itemgetter(0, 1, 2, 4, 5, 6, 8, 9, 10)
+#: The value vector (x, y, z, R row by row) from the same entries.
+_VALUE = np.array([3, 7, 11, 0, 1, 2, 4, 5, 6, 8, 9, 10])
+
+
+def plain_pose(output: Output, target: Any, screen: bool = True) -> np.ndarray | None:
     """The value vector (x, y, z, R row by row) of a plain pose matrix, or None when the
-    target needs the general route (module docstring)."""
+    target needs the general route (module docstring). ``screen=False`` skips the test of
+    R (distance from SO(3) ≤ KEEP_TOL, det R > 0) for a caller that makes it itself: the
+    ``serial_branches`` kernel declines such an R (the same arithmetic, the same bits)."""
     if (
         output.coords != POSE
         or type(target) is not np.ndarray
@@ -41,7 +50,8 @@ def plain_pose(output: Output, target: Any) -> np.ndarray | None:
         or target.shape not in ((4, 4), (3, 4))
     ):
         return None
-    c = target.ravel().tolist()
+    flat = target.ravel()
+    c = flat.tolist()
     if len(c) == 16 and not (
         abs(c[12]) <= LAST_ROW_TOL
         and abs(c[13]) <= LAST_ROW_TOL
@@ -51,11 +61,11 @@ def plain_pose(output: Output, target: Any) -> np.ndarray | None:
         return None
     if not math.hypot(*c) <= MAX_ABS:  # NaN and inf fail too
         return None
-    r = [*c[0:3], *c[4:7], *c[8:11]]
-    sq, det = so3_defect(r)
-    if not (0.5 * math.sqrt(sq) <= KEEP_TOL and det > 0.0):
-        return None
-    return np.array([c[3], c[7], c[11], *r])
+    if screen:
+        sq, det = so3_defect(_ROTATION(c))
+        if not (0.5 * math.sqrt(sq) <= KEEP_TOL and det > 0.0):
+            return None
+    return flat[_VALUE]  # a new array (fancy indexing copies): the same bits as c
 
 
 __all__ = ["KEEP_TOL", "plain_pose"]

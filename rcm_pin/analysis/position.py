@@ -39,7 +39,7 @@ from rcm_pin.errors import InvalidInputError, SolverError, UnreachablePoseError
 from rcm_pin.model.mechanism import Mechanism
 from rcm_pin.model.output import Output
 from rcm_pin.model.output_choice import require_output
-from rcm_pin.model.serial_branches import serial_branches
+from rcm_pin.model.serial_branches import BranchArrays, SerialBranches, serial_branches
 from rcm_pin.rotations import numeric_array, pose_from_matrix, short_repr
 
 #: A closed-loop solve is accepted below this closure residual [m].
@@ -130,17 +130,11 @@ def inverse(
     """
     require_output(mech, "the inverse position problem")
     output = mech.output if coords is None else mech.output.subset(_coords(mech, coords))
-    value = plain_pose(output, target)
-    if value is None:
-        value = output.coerce(_as_value(output, target))
     plain = coords is None and starts is None and mech.loops is None
-    kernel = serial_branches(mech) if plain else None
-    fast = None if kernel is None else kernel(value)  # None: the kernel declines
+    value, fast = _read(output, target, serial_branches(mech) if plain else None)
     if fast is not None:  # every branch checked in one compiled call (the same results)
-        sols = closed_form_solutions(
-            fast.q, fast.output, fast.labels, fast.residual, fast.within_limits
-        )
-        method = fast.method
+        qs, outs, residuals, flags, labels, method = fast
+        sols = closed_form_solutions(qs, outs, labels, residuals, flags)
     else:
         sols, method = _solutions(mech, output, value, starts)
     if not sols:
@@ -160,6 +154,25 @@ def inverse(
             )
         sols = inside
     return inverse_result(mech, value, output, tuple(sols), method)
+
+
+def _read(
+    output: Output, target: Any, kernel: SerialBranches | None
+) -> tuple[np.ndarray, BranchArrays | None]:
+    """The target's value and the kernel's branches of it (None: no kernel, or it declines:
+    the numpy route). A plain matrix goes to the kernel unscreened: the kernel declines an
+    R that :func:`plain_pose` would send to the SVD projection (``KEEP_TOL``); then, or
+    for any other target, the value is read as without a kernel (projected if need be)."""
+    if kernel is not None:
+        raw = plain_pose(output, target, screen=False)
+        fast = None if raw is None else kernel(raw)
+        if raw is not None and fast is not None:
+            return raw, fast
+    value = plain_pose(output, target)
+    if value is not None:  # as given: a kernel has declined this very value
+        return value, None
+    value = output.coerce(_as_value(output, target))
+    return value, None if kernel is None else kernel(value)
 
 
 def _solutions(

@@ -16,6 +16,7 @@ from __future__ import annotations
 import threading
 import warnings
 import weakref
+from collections.abc import Sequence
 from typing import NamedTuple, Protocol
 
 import numpy as np
@@ -32,7 +33,7 @@ class BranchArrays(NamedTuple):
     q: np.ndarray
     output: np.ndarray
     residual: list[float]
-    within_limits: list[bool]
+    within_limits: Sequence[bool]
     labels: tuple[str, ...]
     method: str
 
@@ -41,8 +42,11 @@ class SerialBranches(Protocol):
     """The checked branches of a serial inverse problem for ``mech.output``."""
 
     def __call__(self, value: np.ndarray) -> BranchArrays | None:
-        """The numpy route's branches for an output value (validated, (size,)), or None
-        where the kernel cannot reproduce them (the caller runs the numpy route)."""
+        """The numpy route's branches for an output value ((size,), validated except for
+        the test of R: ``inverse`` leaves that to the kernel, which declines an R farther
+        from SO(3) than ``rcm_pin.analysis.pose_target.KEEP_TOL`` or with det R ≤ 0, as
+        ``plain_pose`` would), or None where the kernel cannot reproduce them (the
+        caller runs the numpy route)."""
         ...
 
 
