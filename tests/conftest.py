@@ -35,6 +35,14 @@ def rcm_mech(request):
     return rcm_pin.load(request.param)
 
 
+def closed_cases(mech, rng, n, spread, drive_spread=0.2):
+    """n (drives, start) pairs of a closed mechanism: drives uniform within
+    ``drive_spread`` of home's, starts home plus normal noise of deviation ``spread``."""
+    loops, home = mech.loops, mech.home
+    drives = home[loops.drive_q] + rng.uniform(-drive_spread, drive_spread, (n, loops.dof))
+    return [(d, home + rng.normal(0.0, spread, mech.nq)) for d in drives]
+
+
 def random_q(mech, n, rng, margin=0.0):
     """n random configurations within the joint limits (shrunk by ``margin``)."""
     lo, hi = mech.lower + margin, mech.upper - margin

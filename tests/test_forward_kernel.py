@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from conftest import closed_cases
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
@@ -35,12 +36,6 @@ MECHANISMS = (
 )
 
 
-def _cases(mech, rng, n, spread):
-    loops, home = mech.loops, mech.home
-    drives = home[loops.drive_q] + rng.uniform(-0.1, 0.1, (n, loops.dof))
-    return [(d, home + rng.normal(0.0, spread, mech.nq)) for d in drives]
-
-
 @pytest.mark.parametrize("name", MECHANISMS)
 def test_forward_is_the_solve_with_its_output_and_limit_flag(name):
     mech = rcm_pin.load(name)
@@ -48,7 +43,7 @@ def test_forward_is_the_solve_with_its_output_and_limit_flag(name):
     assert isinstance(kernel, ClosureNewtonKernel)
     rng = np.random.default_rng(20261202)
     answered = 0
-    for drives, q0 in _cases(mech, rng, 24, 0.05) + _cases(mech, rng, 8, 1.0):
+    for drives, q0 in closed_cases(mech, rng, 24, 0.05, 0.1) + closed_cases(mech, rng, 8, 1.0, 0.1):
         out = kernel.forward(q0, drives, 60, 0.5)
         solve = kernel(q0, drives, max_iter=60, max_step=0.5)
         assert (out is None) == (solve is None)
@@ -108,7 +103,7 @@ def test_vm_and_compiled_forward_give_the_same_bits(m3):
     vm_fun = SharedFunction(provider.newton_function(m3, vm=True), "", None)
     vm = ClosureNewtonKernel(vm_fun, CHUNK, bounds)
     compiled = ClosureNewtonKernel(shared, CHUNK, bounds)
-    for drives, q0 in _cases(m3, rng, 20, 0.3):
+    for drives, q0 in closed_cases(m3, rng, 20, 0.3, 0.1):
         a, b = vm.forward(q0, drives, 60, 0.5), compiled.forward(q0, drives, 60, 0.5)
         assert (a is None) == (b is None)
         if a is not None:

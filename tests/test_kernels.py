@@ -11,6 +11,7 @@ from concurrent.futures import ThreadPoolExecutor
 import casadi as ca
 import numpy as np
 import pytest
+from conftest import closed_cases
 
 import rcm_pin
 from ocp import so_cache
@@ -51,13 +52,6 @@ def _both(mech, drives, q0, **options):
     return out
 
 
-def _seeded_cases(mech, rng, n, spread, drive_spread=0.2):
-    loops = mech.loops
-    home = mech.home
-    drives = home[loops.drive_q] + rng.uniform(-drive_spread, drive_spread, (n, loops.dof))
-    return [(d, home + rng.normal(0.0, spread, mech.nq)) for d in drives]
-
-
 @pytest.mark.parametrize("name", CLOSED)
 def test_kernel_and_numpy_routes_agree(name):
     """Seeded random drives and starts (near, and far enough that steps are clipped)."""
@@ -68,7 +62,7 @@ def test_kernel_and_numpy_routes_agree(name):
     answered = []
     for spread in (0.05, 0.6):
         answered.append(0)
-        for drives, q0 in _seeded_cases(mech, rng, 40, spread):
+        for drives, q0 in closed_cases(mech, rng, 40, spread):
             fast, slow = _both(mech, drives, q0)
             if isinstance(slow, SolverError):
                 assert type(fast) is SolverError and str(fast) == str(slow)
@@ -85,7 +79,7 @@ def test_the_vm_route_agrees(m3):
     """The same function in CasADi's virtual machine (no C compiler)."""
     vm = ClosureNewtonKernel(SharedFunction(provider.newton_function(m3, vm=True), "", None), CHUNK)
     rng = np.random.default_rng(3)
-    for drives, q0 in _seeded_cases(m3, rng, 20, 0.01, 0.05):
+    for drives, q0 in closed_cases(m3, rng, 20, 0.01, 0.05):
         out = vm(q0, drives, max_iter=60, max_step=0.5)
         with kernels.disabled():
             q, it, res = solve_drives(m3, drives, q0)
@@ -111,7 +105,7 @@ def test_vm_and_compiled_functions_give_the_same_bits(m3):
     shared.compile()
     assert shared.compiled and shared.function.name() == vm.shared.function.name()
     compiled = ClosureNewtonKernel(shared, CHUNK)
-    for drives, q0 in _seeded_cases(m3, rng, 30, 0.3):
+    for drives, q0 in closed_cases(m3, rng, 30, 0.3):
         a = vm(q0, drives, max_iter=60, max_step=0.5)
         b = compiled(q0, drives, max_iter=60, max_step=0.5)
         assert (a is None) == (b is None)
@@ -199,7 +193,7 @@ def test_a_failing_provider_warns_and_numpy_serves(monkeypatch):
 def test_threads_give_the_same_results(m3):
     kernels.warm(m3)
     rng = np.random.default_rng(11)
-    cases = _seeded_cases(m3, rng, 40, 0.01, 0.05)
+    cases = closed_cases(m3, rng, 40, 0.01, 0.05)
     with kernels.disabled():
         expected = [solve_drives(m3, d, q0)[0] for d, q0 in cases]
     with warnings.catch_warnings():
@@ -212,7 +206,7 @@ def test_threads_give_the_same_results(m3):
 def test_public_forward_is_unchanged(m3):
     kernels.warm(m3)
     rng = np.random.default_rng(5)
-    for drives, q0 in _seeded_cases(m3, rng, 10, 0.01, 0.05):
+    for drives, q0 in closed_cases(m3, rng, 10, 0.01, 0.05):
         a = rcm_pin.forward(m3, drives, q_guess=q0).solutions[0]
         with kernels.disabled():
             b = rcm_pin.forward(m3, drives, q_guess=q0).solutions[0]

@@ -58,19 +58,14 @@ def solve_drives(
         out = kernel(q0, drives, max_iter=max_iter, max_step=max_step)
         if out is not None:
             return out.q, out.iterations, out.residual
-    return solve_numpy(mech, drives, q0, max_iter=max_iter, max_step=max_step)
+    return solve_numpy(mech, drives, q0, max_iter, max_step)
 
 
 def solve_numpy(
-    mech: Mechanism,
-    drives: np.ndarray,
-    q0: np.ndarray,
-    *,
-    max_iter: int = MAX_ITER,
-    max_step: float = MAX_STEP,
+    mech: Mechanism, drives: np.ndarray, q0: np.ndarray, max_iter: int, max_step: float
 ) -> tuple[np.ndarray, int, float]:
     """:func:`solve_drives` on the numpy route only (no kernel asked): where a kernel
-    declined, or with the kernels disabled.
+    declined, or with the kernels disabled (the arguments as :func:`solve_drives`').
 
     Raises:
         SolverError: no convergence.

@@ -114,7 +114,7 @@ def from_guess(mech: Mechanism, loops: Loops, q: Any, q_guess: Any) -> PositionR
     if out is not None:  # the solve, the output value and the limit flag in one call
         qs, it, res, value, inside = out
     else:
-        qs, it, res = cp.solve_numpy(mech, drives, q0)
+        qs, it, res = cp.solve_numpy(mech, drives, q0, MAX_ITER, MAX_STEP)
         model, data, output = p.model, mech.data, p.output
         pin.forwardKinematics(model, data, qs)  # as Mechanism.output_value
         value = output.value(pin.updateFramePlacement(model, data, output.frame_id))
