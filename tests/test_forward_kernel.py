@@ -17,6 +17,7 @@ import rcm_pin
 from ocp.kernels import CHUNK, provider
 from ocp.kernels.closure_kernel import ClosureNewtonKernel, SharedFunction
 from rcm_pin.analysis.branch_check import LIMIT_TOL, within_limits
+from rcm_pin.catalog import mechanisms
 from rcm_pin.model import kernels
 
 #: The kernel's output value against Pinocchio's at the same q: the same operations in
@@ -25,12 +26,7 @@ OUTPUT_AGREE = 1e-15
 LAAS = Path(__file__).parent / "data" / "laas"
 #: Every closed catalogue mechanism, and LAAS fixtures without an output frame.
 MECHANISMS = (
-    "planar_3rrr",
-    "five_bar",
-    "four_bar",
-    "spherical_3rrr",
-    "translational_3ppapa",
-    "eye_4dof",
+    *(e.name for e in mechanisms() if e.kind == "closed"),
     str(LAAS / "five_bar.urdf"),
     str(LAAS / "delta.urdf"),
 )
