@@ -50,20 +50,13 @@ class SerialBranchesKernel:
     def _buffers(self) -> _Bound:
         """This thread's bound function: its evaluation, its value input and (8, n) /
         (8, 12) / (8 + 2,) views of q, output and info (four-DOF: 2 branches)."""
-        shared = self.shared
-        if shared.compile_after is not None:
-            shared.count()
-        fun, local = shared.function, self._local
-        if getattr(local, "source", None) is not fun:  # first call here, or just compiled
-            buf = BufferedFunction(fun)
-            buf.inputs[1][:] = self.limits
-            q, out, info = buf.outputs
-            nb = self.nb
-            local.bound = (buf.evaluate, buf.inputs[0], q.reshape(nb, self.n),
-                           out.reshape(nb, 12), info)  # fmt: skip
-            local.source = fun
-        bound: _Bound = local.bound
-        return bound
+        return self.shared.bound(self._local, self._bind)
+
+    def _bind(self, buf: BufferedFunction) -> _Bound:
+        buf.inputs[1][:] = self.limits
+        q, out, info = buf.outputs
+        nb = self.nb
+        return buf.evaluate, buf.inputs[0], q.reshape(nb, self.n), out.reshape(nb, 12), info
 
     def __call__(self, value: np.ndarray) -> BranchArrays | None:
         """The checked branches (eight; four-DOF two) of a pose value (12,), or None (the

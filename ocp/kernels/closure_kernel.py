@@ -32,6 +32,8 @@ from __future__ import annotations
 
 import threading
 import warnings
+from collections.abc import Callable
+from typing import TypeVar
 
 import casadi as ca
 import numpy as np
@@ -57,6 +59,7 @@ COMPILE_MAX_INSTRUCTIONS = 20_000
 COMPILE_FLAGS = "-O1 -ffp-contract=off"
 #: A NamedTuple from its fields without its keyword-parsing ``__new__``.
 _new = tuple.__new__
+_T = TypeVar("_T")
 
 
 class SharedFunction:
@@ -76,6 +79,18 @@ class SharedFunction:
         self.calls += 1
         if self.compile_after is not None and self.calls >= self.compile_after:
             self.compile()
+
+    def bound(self, local: threading.local, bind: Callable[[BufferedFunction], _T]) -> _T:
+        """A thread's binding of the function, kept in ``local``: counts the call (see
+        :meth:`count`), and on the thread's first call or after a compilation binds anew,
+        ``bind(BufferedFunction(self.function))`` (a kernel writes its fixed inputs there)."""
+        if self.compile_after is not None:
+            self.count()
+        fun = self.function
+        if getattr(local, "source", None) is not fun:  # first call here, or just compiled
+            local.bound, local.source = bind(BufferedFunction(fun)), fun
+        out: _T = local.bound
+        return out
 
     def compile(self) -> ca.Function:
         """The function compiled to C (from the disk cache when it is there)."""
@@ -114,16 +129,12 @@ class ClosureNewtonKernel:
         self._local = threading.local()
 
     def _buffers(self) -> BufferedFunction:
-        shared = self.shared
-        if shared.compile_after is not None:
-            shared.count()
-        fun, local = shared.function, self._local
-        if getattr(local, "source", None) is not fun:  # first call here, or just compiled
-            buf = BufferedFunction(fun)
-            buf.inputs[3][:] = self.bounds
-            local.buf, local.source = buf, fun
-        out: BufferedFunction = local.buf
-        return out
+        """This thread's buffers (the bounds written once)."""
+        return self.shared.bound(self._local, self._bind)
+
+    def _bind(self, buf: BufferedFunction) -> BufferedFunction:
+        buf.inputs[3][:] = self.bounds
+        return buf
 
     def _solve(
         self, q_guess: np.ndarray, drives: np.ndarray, max_iter: int, max_step: float
