@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 from test_branch_kernel import AGREE, _routes, assert_same
 
@@ -62,14 +62,19 @@ def test_the_kernel_answers_the_near_aligned_band_as_numpy(name, wrist, offset):
     st.sampled_from([-1.0, 1.0]),
     st.sampled_from(CASES),
 )
+@example([0.0, 0.5, 0.0, 0.0, 0.0, 0.0], -4.0, -1.0, CASES[0])  # q2 = π/2: p on the base axis
 def test_any_near_aligned_pose_takes_the_kernel_with_numpys_results(unit, log_d, sign, case):
     """Any pose of the band (the wrist within 2e-9 .. 9e-4 rad of aligned, any q1, q2, q4,
-    q6 over a turn, q3 in [0.05, 0.1] m)."""
+    q6 over a turn, q3 in [0.05, 0.1] m). Where the tool point also lies on the base axis
+    (q2 = ±π/2: ρ = |(p_y, p_z)| ≤ SING_TOL·|p|, the position's own degeneracy) the kernel
+    declines as documented; both routes must still agree there."""
     name, wrist = case
     mech = _mech(name, wrist)
     q = np.array(unit) * np.pi
     q[2] = 0.05 + 0.05 * abs(unit[2])  # [m]
     aligned = _aligned(wrist)[int(unit[4] > 0.0)]
     T = _band_pose(mech, q, wrist, aligned + sign * 10.0**log_d)
-    assert serial_branches.warm(mech)(plain_pose(mech.output, T)) is not None
+    p = T[:3, 3]
+    if np.hypot(p[1], p[2]) > 10.0 * SING_TOL * np.linalg.norm(p):
+        assert serial_branches.warm(mech)(plain_pose(mech.output, T)) is not None
     assert_same(*_routes(mech, T), q_tol=AGREE)
