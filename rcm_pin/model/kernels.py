@@ -186,12 +186,24 @@ def warm(mech: Mechanism) -> ClosureNewton | None:
 
 
 def _first_kernel(mech: Mechanism) -> ClosureNewton | None:
+    kernel: ClosureNewton | None = first_kernel("closure_newton", "closure Newton", mech)
+    return kernel
+
+
+def first_kernel(kind: str, label: str, mech: Mechanism, *args: object, stacklevel: int = 4) -> Any:
+    """The first provider's answer to ``kind(mech, *args)`` that is not None, or None.
+    Providers without that method are skipped; one that raises is skipped with a
+    :class:`KernelWarning` ``"<mech.name>: <label> kernel not built: <error>"``
+    (``stacklevel`` as ``warnings.warn``'s, counted from this function)."""
     for p in providers():
+        build = getattr(p, kind, None)
+        if build is None:
+            continue
         try:
-            kernel = p.closure_newton(mech)
+            kernel = build(mech, *args)
         except Exception as exc:  # an optional accelerator: numpy serves
-            msg = f"{mech.name}: closure Newton kernel not built: {exc}"
-            warnings.warn(msg, KernelWarning, stacklevel=3)
+            msg = f"{mech.name}: {label} kernel not built: {exc}"
+            warnings.warn(msg, KernelWarning, stacklevel=stacklevel)
             continue
         if kernel is not None:
             return kernel
@@ -238,20 +250,8 @@ def _pair_kernel(
 
 
 def _first_pair_kernel(kind: str, plant: Mechanism, controller: object) -> Any:
-    for p in providers():
-        build = getattr(p, kind, None)
-        if build is None:
-            continue
-        try:
-            kernel = build(plant, controller)
-        except Exception as exc:  # an optional accelerator: the Python hot path serves
-            what = kind.split("_")[0]
-            msg = f"{plant.name}: {what} right-hand side kernel not built: {exc}"
-            warnings.warn(msg, KernelWarning, stacklevel=4)
-            continue
-        if kernel is not None:
-            return kernel
-    return None
+    label = f"{kind.split('_')[0]} right-hand side"  # the Python hot path serves
+    return first_kernel(kind, label, plant, controller, stacklevel=5)
 
 
 __all__ = [
@@ -269,6 +269,7 @@ __all__ = [
     "closure_newton",
     "disabled",
     "enabled",
+    "first_kernel",
     "providers",
     "serial_rhs",
     "set_enabled",

@@ -14,7 +14,6 @@ looked up once per Mechanism (cached with it) and follow the switches of
 from __future__ import annotations
 
 import threading
-import warnings
 import weakref
 from collections.abc import Sequence
 from typing import NamedTuple, Protocol
@@ -87,19 +86,8 @@ def warm(mech: Mechanism) -> SerialBranches | None:
 
 
 def _first(mech: Mechanism) -> SerialBranches | None:
-    for p in kernels.providers():
-        build = getattr(p, "serial_branches", None)
-        if build is None:
-            continue
-        try:
-            kernel: SerialBranches | None = build(mech)
-        except Exception as exc:  # an optional accelerator: numpy serves
-            msg = f"{mech.name}: serial branches kernel not built: {exc}"
-            warnings.warn(msg, kernels.KernelWarning, stacklevel=3)
-            continue
-        if kernel is not None:
-            return kernel
-    return None
+    kernel: SerialBranches | None = kernels.first_kernel("serial_branches", "serial branches", mech)
+    return kernel
 
 
 __all__ = ["BranchArrays", "SerialBranches", "serial_branches", "warm"]
