@@ -7,6 +7,7 @@ its DM conversions). Outputs are dense, column-major (use ``order="F"`` to resha
 
 from __future__ import annotations
 
+import threading
 from typing import Any
 
 import casadi as ca
@@ -44,6 +45,27 @@ class BufferedFunction:
         self._call()
 
 
+class RHSBuffers:
+    """A right-hand side ``f(y, r, p)`` on bound buffers, ``p`` written once. Hold
+    :attr:`lock` around :meth:`evaluate` and the reading of its outputs (views that the
+    next call overwrites) to make a call thread-safe (about 0.1 µs)."""
+
+    def __init__(self, function: ca.Function, p: np.ndarray) -> None:
+        buf = BufferedFunction(function)
+        self._y, self._r, p_in = buf.inputs
+        p_in[:] = p
+        self.outputs = buf.outputs
+        self._call = buf.evaluate
+        self.lock = threading.Lock()
+
+    def evaluate(self, y: np.ndarray, r: np.ndarray | list[float]) -> list[np.ndarray]:
+        """The output buffers at (y, r) (the caller holds :attr:`lock`)."""
+        self._y[:] = y
+        self._r[:] = r
+        self._call()
+        return self.outputs
+
+
 def _densified(f: ca.Function) -> ca.Function:
     """The same function with dense outputs (structural zeros written as zeros)."""
     ins: list[Any]
@@ -58,4 +80,4 @@ def _densified(f: ca.Function) -> ca.Function:
     return ca.Function(f.name(), ins, dense, f.name_in(), f.name_out())  # type: ignore[arg-type]
 
 
-__all__ = ["BufferedFunction"]
+__all__ = ["BufferedFunction", "RHSBuffers"]

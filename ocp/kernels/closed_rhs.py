@@ -35,13 +35,12 @@ buffers (:mod:`ocp.buffered`).
 
 from __future__ import annotations
 
-import threading
 import time
 
 import casadi as ca
 import numpy as np
 
-from ocp.buffered import BufferedFunction
+from ocp.buffered import RHSBuffers
 from ocp.kernels.closed_function import build, structure_key
 from ocp.kernels.newton_function import KAPPA_LIMIT
 from ocp.kernels.serial_rhs import OPT
@@ -69,35 +68,25 @@ class BoundClosedRHS:
     plant's Baumgarte numbers (a lock makes a call thread-safe)."""
 
     def __init__(self, function: ca.Function, p: np.ndarray) -> None:
-        self._buf = BufferedFunction(function)
-        self._y, self._r, p_in = self._buf.inputs
-        p_in[:] = p
-        self._ydot, self._tau, self._raw, self._x, self._xd, self._guard = self._buf.outputs
-        self._call = self._buf.evaluate
-        self._lock = threading.Lock()
+        self._rhs = RHSBuffers(function, p)
         #: calls that declined (rank guard or a non-finite result)
         self.declined = 0
 
     def __call__(self, y: np.ndarray, r: np.ndarray | list[float]) -> np.ndarray | None:
         """y' (2n,) at y = (q, q̇) with r = (x_T, ẋ_T, ẍ_T): a new array, or None where
         the kernel declines (module docstring)."""
-        with self._lock:
-            self._y[:] = y
-            self._r[:] = r
-            self._call()
-            out = self._ydot
-            if self._guard[0] < KAPPA_LIMIT and np.isfinite(out).all():
+        with self._rhs.lock:
+            outputs = self._rhs.evaluate(y, r)
+            out, guard = outputs[0], outputs[5]
+            if guard[0] < KAPPA_LIMIT and np.isfinite(out).all():
                 return out.copy()
             self.declined += 1
             return None
 
     def outputs(self, y: np.ndarray, r: np.ndarray | list[float]) -> tuple[np.ndarray, ...]:
         """(ydot, tau, raw, x, xd, guard) at these inputs: copies."""
-        with self._lock:
-            self._y[:] = y
-            self._r[:] = r
-            self._call()
-            return tuple(o.copy() for o in self._buf.outputs)
+        with self._rhs.lock:
+            return tuple(o.copy() for o in self._rhs.evaluate(y, r))
 
 
 class ClosedRHSKernel:

@@ -33,7 +33,6 @@ states to the hot path and to ``ComputedTorque.effort`` (``tests/test_simulate_c
 from __future__ import annotations
 
 import hashlib
-import threading
 import time
 from typing import Any
 
@@ -41,7 +40,7 @@ import casadi as ca
 import numpy as np
 import pinocchio as pin
 
-from ocp.buffered import BufferedFunction
+from ocp.buffered import RHSBuffers
 from ocp.dynamics import cholesky_solve
 from ocp.kernels.digest import source_digest
 from ocp.symbolic import SymbolicModel
@@ -175,29 +174,18 @@ class SerialRHSKernel:
 
     def __init__(self, function: ca.Function, p: np.ndarray, seconds: float, compiled: bool):
         self.function, self.seconds, self.compiled = function, seconds, compiled
-        self._buf = BufferedFunction(function)
-        self._y, self._r, p_in = self._buf.inputs
-        p_in[:] = p
-        self._ydot, self._tau = self._buf.outputs
-        self._call = self._buf.evaluate
-        self._lock = threading.Lock()
+        self._rhs = RHSBuffers(function, p)
 
     def __call__(self, y: np.ndarray, r: np.ndarray | list[float]) -> np.ndarray:
         """y' = (q̇, q̈) (n + nv,) [rad/s, m/s; rad/s², m/s²] at y = (q, q̇) with the
         reference r = (x_T, ẋ_T, ẍ_T) (3 dim,): a new array."""
-        with self._lock:
-            self._y[:] = y
-            self._r[:] = r
-            self._call()
-            return self._ydot.copy()
+        with self._rhs.lock:
+            return self._rhs.evaluate(y, r)[0].copy()
 
     def tau(self, y: np.ndarray, r: np.ndarray | list[float]) -> np.ndarray:
         """The clipped efforts (nv,) [N·m, N] at these inputs."""
-        with self._lock:
-            self._y[:] = y
-            self._r[:] = r
-            self._call()
-            return self._tau.copy()
+        with self._rhs.lock:
+            return self._rhs.evaluate(y, r)[1].copy()
 
 
 def serial_rhs(plant: Mechanism, controller: object, vm: bool = False) -> SerialRHSKernel | None:
